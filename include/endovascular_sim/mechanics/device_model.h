@@ -1,0 +1,65 @@
+// A flexible device (guidewire, catheter, coil) as a chain of beam elements:
+// its description, and the immutable model built from it.
+//
+// Material coordinate s runs from the proximal end (s = 0) to the distal tip
+// (s = length). Rest nodal frames have their x axis along the device.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "endovascular_sim/core/types.h"
+#include "endovascular_sim/mechanics/beam_element.h"
+#include "endovascular_sim/mechanics/beam_section.h"
+
+namespace evsim {
+
+/// One section of uniform material and rest curvature (a URDF link).
+struct DeviceSectionSpec {
+  std::string name;
+  BeamSection section;
+  double length{0.0};                    // [m]
+  int elements{0};                       // beam elements in this section
+  Vec3 rest_curvature{0.0, 0.0, 0.0};   // (twist, bend y, bend z) [1/m]
+};
+
+/// What the device file says: sections from proximal to distal end, limits.
+struct DeviceSpec {
+  std::string name;
+  std::vector<DeviceSectionSpec> sections;
+  double max_insertion_speed{0.05};   // [m/s]
+  double max_rotation_speed{6.2832};  // [rad/s]
+  double rayleigh_mass{0.0};          // alpha in D = alpha M + beta K [1/s]
+  double rayleigh_stiffness{0.0};     // beta [s]
+};
+
+struct DeviceModel {
+  std::string name;
+  double length{0.0};  // [m]
+  int num_nodes{0};
+  std::vector<double> node_s;           // material coordinate (nodes) [m]
+  std::vector<BeamElementRest> elements;  // element e joins nodes e and e+1
+  std::vector<int> element_section;     // section index of each element
+  std::vector<double> node_mass;        // lumped translational mass [kg]
+  std::vector<Vec3> node_inertia;       // lumped body inertia (Jx, Iy, Iz) [kg m^2]
+  std::vector<double> node_radius;      // outer radius [m]
+  std::vector<Vec3> rest_position;      // rest shape, proximal frame at origin [m]
+  std::vector<Mat3> rest_rotation;
+  std::vector<double> rest_twist;       // integral of rest twist from s = 0 [rad]
+  std::vector<std::string> section_names;
+  double max_insertion_speed{0.0};      // [m/s]
+  double max_rotation_speed{0.0};       // [rad/s]
+  double rayleigh_mass{0.0};            // [1/s]
+  double rayleigh_stiffness{0.0};       // [s]
+};
+
+/// Discretises the sections into elements and integrates the rest shape.
+/// Throws std::invalid_argument on an inconsistent spec (checked by loaders
+/// first, so that their errors name the file).
+DeviceModel buildDeviceModel(const DeviceSpec& spec);
+
+/// Uniform straight device of one section (tests, benchmarks).
+DeviceSpec straightDeviceSpec(const std::string& name, const BeamSection& section, double length,
+                              int elements);
+
+}  // namespace evsim

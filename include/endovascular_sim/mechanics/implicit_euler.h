@@ -1,0 +1,54 @@
+// Free motion of a device over one time step, linearised implicit Euler:
+//   A dq = f_ext - f_int(q) + M v / dt,   A = M/dt^2 + D/dt + K(q),
+//   D = alpha M + beta K (Rayleigh damping),  v_next = dq / dt,
+// with the held (introducer) nodes prescribed. A is assembled sparse every
+// step and factorised by CHOLMOD; the factor stays in the workspace so that
+// the contact solver can solve with A again.
+#pragma once
+
+#include <vector>
+
+#include "endovascular_sim/core/types.h"
+#include "endovascular_sim/mechanics/chain_matrix.h"
+#include "endovascular_sim/mechanics/device_model.h"
+#include "endovascular_sim/mechanics/device_state.h"
+#include "endovascular_sim/mechanics/introducer.h"
+#include "endovascular_sim/mechanics/sparse_cholesky.h"
+
+namespace evsim {
+
+/// Per-device workspace of a step (Data).
+struct DeviceWorkspace {
+  ChainMatrix stiffness;      // K over all nodes
+  ChainMatrix system;         // A over all nodes
+  VecX elastic_gradient;      // f_int (6 * num_nodes)
+  VecX rhs;                   // right-hand side over the free nodes
+  VecX dq;                    // free-motion increment of all nodes (6 * num_nodes)
+  int first_free_node{-1};    // nodes [0, first_free_node) are held
+  ChainCscPattern pattern;    // CSC pattern of A over the free nodes
+  std::vector<double> values;  // CSC values
+  SparseCholesky cholesky;    // factor of A over the free nodes
+  double elastic_energy{0.0};  // [J] at the start of the step
+};
+
+/// Wall time of each stage [ms].
+struct FreeMotionTimes {
+  double assembly_ms{0.0};
+  double factorization_ms{0.0};
+  double solve_ms{0.0};
+};
+
+/// Computes ws->dq for the state's inserted length and rotation angle
+/// (already advanced by the drive). Returns false when A is not positive
+/// definite (the state is then left untouched by the caller).
+bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const Vec3& gravity,
+                       double dt, const DeviceState& state, DeviceWorkspace* ws,
+                       FreeMotionTimes* times = nullptr);
+
+/// Applies dq (all nodes) and sets velocities to dq / dt.
+void commitMotion(const VecX& dq, double dt, DeviceState* state);
+
+/// Lumped mass block of a node in the world frame (6 x 6).
+Mat6 nodeMass(const DeviceModel& model, const DeviceState& state, int node);
+
+}  // namespace evsim

@@ -1,0 +1,52 @@
+// Insertion and rotation at the proximal end. A device enters the body at an
+// access point along the axis of an introducer sheath. Material with
+// s <= length - inserted_length is still in the sheath: those nodes are held
+// straight on the axis (position from the inserted length, twist from the
+// commanded rotation); the rest is free. As the inserted length grows, the
+// device's material passes the access point node by node.
+#pragma once
+
+#include <string>
+
+#include "endovascular_sim/core/types.h"
+#include "endovascular_sim/mechanics/device_model.h"
+#include "endovascular_sim/mechanics/device_state.h"
+
+namespace evsim {
+
+struct Introducer {
+  Vec3 access_point{0.0, 0.0, 0.0};  // world [m]
+  Mat3 frame{Mat3::Identity()};      // world; x axis points into the body
+};
+
+/// Last node still held in the sheath (always >= 0: node 0 at the most reaches
+/// the access point).
+int lastHeldNode(const DeviceModel& model, double inserted_length);
+
+/// Pose of a node held straight in the sheath.
+void heldPose(const DeviceModel& model, const Introducer& intro, double inserted_length,
+              double rotation_angle, int node, Vec3* position, Mat3* rotation);
+
+/// Device at rest: held nodes in the sheath, inserted material in its rest
+/// shape continuing from the access point.
+DeviceState placeDevice(const DeviceModel& model, const Introducer& intro,
+                        double inserted_length, double rotation_angle);
+
+/// How the proximal end is driven.
+struct DriveCommand {
+  enum class Mode { kVelocity, kPosition };
+  Mode mode{Mode::kVelocity};
+  double insertion{0.0};  // [m/s] or target inserted length [m]
+  double rotation{0.0};   // [rad/s] or target angle [rad]
+};
+
+/// Why a command is refused (empty when it is valid): NaN, infinity, a speed
+/// beyond the device's limits, a target length outside [0, length].
+std::string validateDriveCommand(const DriveCommand& command, const DeviceModel& model);
+
+/// Advances inserted length and rotation angle over dt [s] toward the command,
+/// never faster than the device's limits.
+void advanceDrive(const DriveCommand& command, const DeviceModel& model, double dt,
+                  DeviceState* state);
+
+}  // namespace evsim

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs every Debian package endovascular_sim needs (idempotent, as root).
+# Usage: scripts/setup.sh            # packages only
+set -euo pipefail
+
+packages=(
+  # toolchain and core library
+  build-essential cmake pkg-config
+  libeigen3-dev libsuitesparse-dev libyaml-cpp-dev
+  liburdfdom-dev liburdfdom-headers-dev libtinyxml-dev
+  libgtest-dev googletest libgmock-dev libbenchmark-dev
+  # ROS 1 from Debian: catkin, roscpp, message generation and definitions
+  catkin python3-catkin-pkg python3-empy
+  ros-message-generation ros-message-runtime python3-genmsg python3-gencpp
+  libroscpp-dev rosout python3-roslaunch python3-rostest python3-rostopic
+  librostest-dev
+  ros-std-msgs libstd-msgs-dev ros-geometry-msgs libgeometry-msgs-dev
+  ros-nav-msgs libnav-msgs-dev ros-sensor-msgs libsensor-msgs-dev
+  ros-visualization-msgs libvisualization-msgs-dev
+  ros-std-srvs libstd-srvs-dev
+  libtf2-ros-dev libtf2-dev libtf2-msgs-dev ros-tf2-msgs
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "setup: installing ${#missing[@]} Debian packages: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all ${#packages[@]} Debian packages present"
+fi

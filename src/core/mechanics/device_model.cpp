@@ -1,0 +1,86 @@
+#include "endovascular_sim/mechanics/device_model.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "endovascular_sim/mechanics/so3.h"
+
+namespace evsim {
+
+DeviceModel buildDeviceModel(const DeviceSpec& spec) {
+  if (spec.sections.empty()) throw std::invalid_argument("device has no sections");
+  DeviceModel m;
+  m.name = spec.name;
+  m.max_insertion_speed = spec.max_insertion_speed;
+  m.max_rotation_speed = spec.max_rotation_speed;
+  m.rayleigh_mass = spec.rayleigh_mass;
+  m.rayleigh_stiffness = spec.rayleigh_stiffness;
+
+  int num_elements = 0;
+  for (const auto& sec : spec.sections) {
+    if (sec.elements < 1 || !(sec.length > 0.0))
+      throw std::invalid_argument("section " + sec.name + " has no length or no elements");
+    num_elements += sec.elements;
+    m.section_names.push_back(sec.name);
+  }
+  m.num_nodes = num_elements + 1;
+  const int n = m.num_nodes;
+  m.node_s.assign(n, 0.0);
+  m.node_mass.assign(n, 0.0);
+  m.node_inertia.assign(n, Vec3::Zero());
+  m.node_radius.assign(n, 0.0);
+  m.rest_position.assign(n, Vec3::Zero());
+  m.rest_rotation.assign(n, Mat3::Identity());
+  m.rest_twist.assign(n, 0.0);
+
+  int e = 0;
+  double s = 0.0;
+  for (int k = 0; k < static_cast<int>(spec.sections.size()); ++k) {
+    const DeviceSectionSpec& sec = spec.sections[k];
+    const double le = sec.length / sec.elements;
+    const double mass = sec.section.density * sec.section.area() * le;
+    const double rho_i = sec.section.density * sec.section.secondMoment() * le;
+    const Vec3 inertia(2.0 * rho_i, rho_i, rho_i);
+    for (int j = 0; j < sec.elements; ++j, ++e) {
+      // Rest chord along the mid-frame x axis: Gamma0 = (1, 0, 0) exactly.
+      const Vec3 step = sec.rest_curvature * le;
+      const Mat3& R1 = m.rest_rotation[e];
+      m.rest_rotation[e + 1] = R1 * expSO3(step);
+      m.rest_position[e + 1] = m.rest_position[e] + R1 * expSO3(0.5 * step) * Vec3::UnitX() * le;
+      m.rest_twist[e + 1] = m.rest_twist[e] + sec.rest_curvature.x() * le;
+      s += le;
+      m.node_s[e + 1] = s;
+
+      BeamElementRest rest;
+      setBeamElementRestShape(m.rest_position[e], R1, m.rest_position[e + 1],
+                              m.rest_rotation[e + 1], le, &rest);
+      rest.stretch_shear_stiffness = sec.section.stretchShearStiffness();
+      rest.bend_twist_stiffness = sec.section.bendTwistStiffness();
+      m.elements.push_back(rest);
+      m.element_section.push_back(k);
+
+      for (int node : {e, e + 1}) {
+        m.node_mass[node] += 0.5 * mass;
+        m.node_inertia[node] += 0.5 * inertia;
+        m.node_radius[node] = std::max(m.node_radius[node], sec.section.outer_radius);
+      }
+    }
+  }
+  m.length = s;
+  return m;
+}
+
+DeviceSpec straightDeviceSpec(const std::string& name, const BeamSection& section, double length,
+                              int elements) {
+  DeviceSpec spec;
+  spec.name = name;
+  DeviceSectionSpec sec;
+  sec.name = name;
+  sec.section = section;
+  sec.length = length;
+  sec.elements = elements;
+  spec.sections.push_back(sec);
+  return spec;
+}
+
+}  // namespace evsim

@@ -1,0 +1,52 @@
+#include "endovascular_sim/mechanics/elasticity.h"
+
+#include "endovascular_sim/mechanics/beam_element.h"
+#include "endovascular_sim/mechanics/so3.h"
+
+namespace evsim {
+
+double assembleElasticity(const DeviceModel& model, const DeviceState& state, VecX* gradient,
+                          ChainMatrix* K, Tangent tangent) {
+  const int n = model.num_nodes;
+  if (gradient) gradient->setZero(6 * n);
+  if (K) {
+    K->resize(n);
+    K->setZero();
+  }
+  double energy = 0.0;
+  BeamElementEval ev;
+  Mat3 R1 = state.rotation[0].toRotationMatrix();
+  for (int e = 0; e + 1 < n; ++e) {
+    const Mat3 R2 = state.rotation[e + 1].toRotationMatrix();
+    evaluateBeamElement(model.elements[e], state.position[e], R1, state.position[e + 1], R2,
+                        K != nullptr, &ev);
+    energy += ev.energy;
+    if (gradient) gradient->segment<12>(6 * e) += ev.gradient;
+    if (K && tangent == Tangent::kConsistent)
+      ev.stiffness = beamElementConsistentTangent(model.elements[e], state.position[e], R1,
+                                                  state.position[e + 1], R2);
+    if (K) {
+      K->diag[e] += ev.stiffness.block<6, 6>(0, 0);
+      K->diag[e + 1] += ev.stiffness.block<6, 6>(6, 6);
+      K->upper[e] += ev.stiffness.block<6, 6>(0, 6);
+    }
+    R1 = R2;
+  }
+  return energy;
+}
+
+double elasticEnergy(const DeviceModel& model, const DeviceState& state) {
+  return assembleElasticity(model, state, nullptr, nullptr);
+}
+
+void applyIncrement(const VecX& dq, int first_node, DeviceState* state) {
+  const int n = static_cast<int>(state->position.size());
+  for (int i = first_node; i < n; ++i) {
+    const int k = 6 * (i - first_node);
+    state->position[i] += dq.segment<3>(k);
+    state->rotation[i] = Quat(expSO3(dq.segment<3>(k + 3))) * state->rotation[i];
+    state->rotation[i].normalize();
+  }
+}
+
+}  // namespace evsim

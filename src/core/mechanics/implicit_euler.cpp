@@ -1,0 +1,95 @@
+#include "endovascular_sim/mechanics/implicit_euler.h"
+
+#include <chrono>
+
+#include "endovascular_sim/mechanics/elasticity.h"
+#include "endovascular_sim/mechanics/so3.h"
+
+namespace evsim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+Mat6 nodeMass(const DeviceModel& model, const DeviceState& state, int node) {
+  Mat6 m = Mat6::Zero();
+  m.topLeftCorner<3, 3>().diagonal().setConstant(model.node_mass[node]);
+  const Mat3 R = state.rotation[node].toRotationMatrix();
+  m.bottomRightCorner<3, 3>() = R * model.node_inertia[node].asDiagonal() * R.transpose();
+  return m;
+}
+
+bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const Vec3& gravity,
+                       double dt, const DeviceState& state, DeviceWorkspace* ws,
+                       FreeMotionTimes* times) {
+  const auto t0 = Clock::now();
+  const int n = model.num_nodes;
+  const int held = lastHeldNode(model, state.inserted_length);
+  const int first_free = held + 1;
+  ws->dq.setZero(6 * n);
+
+  // Prescribed increments of the held nodes.
+  for (int i = 0; i <= held; ++i) {
+    Vec3 x;
+    Mat3 R;
+    heldPose(model, intro, state.inserted_length, state.rotation_angle, i, &x, &R);
+    ws->dq.segment<3>(6 * i) = x - state.position[i];
+    ws->dq.segment<3>(6 * i + 3) = logSO3(R * state.rotation[i].toRotationMatrix().transpose());
+  }
+
+  ws->elastic_energy =
+      assembleElasticity(model, state, &ws->elastic_gradient, &ws->stiffness);
+  const double cm = 1.0 / (dt * dt) + model.rayleigh_mass / dt;
+  const double ck = 1.0 + model.rayleigh_stiffness / dt;
+  ChainMatrix& A = ws->system;
+  A.resize(n);
+  const int nf = n - first_free;
+  ws->rhs.resize(6 * nf);
+  for (int i = 0; i < n; ++i) {
+    const Mat6 M = nodeMass(model, state, i);
+    A.diag[i] = cm * M + ck * ws->stiffness.diag[i];
+    if (i + 1 < n) A.upper[i] = ck * ws->stiffness.upper[i];
+    if (i < first_free) continue;
+    Vec6 f;
+    f << model.node_mass[i] * gravity, Vec3::Zero();
+    Vec6 v;
+    v << state.velocity[i], state.angular_velocity[i];
+    ws->rhs.segment<6>(6 * (i - first_free)) =
+        f - ws->elastic_gradient.segment<6>(6 * i) + M * v / dt;
+  }
+  if (nf > 0) ws->rhs.head<6>() -= A.upper[held].transpose() * ws->dq.segment<6>(6 * held);
+  if (times) times->assembly_ms = msSince(t0);
+
+  if (nf == 0) return true;
+  const auto t1 = Clock::now();
+  if (first_free != ws->first_free_node || ws->pattern.size != 6 * nf) {
+    ws->pattern.build(n, first_free);
+    ws->cholesky.analyze(ws->pattern.size, ws->pattern.col_ptr, ws->pattern.row_idx);
+    ws->first_free_node = first_free;
+  }
+  ws->pattern.gather(A, &ws->values);
+  if (!ws->cholesky.factorize(ws->values)) return false;
+  if (times) times->factorization_ms = msSince(t1);
+
+  const auto t2 = Clock::now();
+  ws->cholesky.solveInPlace(&ws->rhs);
+  ws->dq.tail(6 * nf) = ws->rhs;
+  if (times) times->solve_ms = msSince(t2);
+  return ws->dq.allFinite();
+}
+
+void commitMotion(const VecX& dq, double dt, DeviceState* state) {
+  applyIncrement(dq, 0, state);
+  const int n = static_cast<int>(state->position.size());
+  for (int i = 0; i < n; ++i) {
+    state->velocity[i] = dq.segment<3>(6 * i) / dt;
+    state->angular_velocity[i] = dq.segment<3>(6 * i + 3) / dt;
+  }
+}
+
+}  // namespace evsim
