@@ -42,11 +42,12 @@ DeviceModel buildDeviceModel(const DeviceSpec& spec) {
     const double rho_i = sec.section.density * sec.section.secondMoment() * le;
     const Vec3 inertia(2.0 * rho_i, rho_i, rho_i);
     for (int j = 0; j < sec.elements; ++j, ++e) {
-      // Rest chord along the mid-frame x axis: Gamma0 = (1, 0, 0) exactly.
+      // Exact constant-curvature curve: R(s) = R1 exp(s hat(kappa)), and
+      // x(le) - x(0) = R1 Jl(kappa le) e_x le, with Jl(phi) = Jr(-phi).
       const Vec3 step = sec.rest_curvature * le;
       const Mat3& R1 = m.rest_rotation[e];
       m.rest_rotation[e + 1] = R1 * expSO3(step);
-      m.rest_position[e + 1] = m.rest_position[e] + R1 * expSO3(0.5 * step) * Vec3::UnitX() * le;
+      m.rest_position[e + 1] = m.rest_position[e] + R1 * rightJacobian(-step) * Vec3::UnitX() * le;
       m.rest_twist[e + 1] = m.rest_twist[e] + sec.rest_curvature.x() * le;
       s += le;
       m.node_s[e + 1] = s;
