@@ -11,5 +11,5 @@ ln -sfn "$repo" "$ws/src/endovascular_sim"
 export PATH="/usr/bin:$PATH"
 cd "$ws"
 catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
-  -DCATKIN_ENABLE_TESTING=ON "$@" 2>&1 | grep -vE '^-- |^\[ *[0-9]+%\] (Built|Generating)' || true
+  -DCATKIN_ENABLE_TESTING=ON "$@" 2>&1 | grep -vE '^-- |^\[ *[0-9]+%\] (Built|Generating|Building|Linking)|^####|^Base path|^Source space|^Build space|^Devel space|^Install space|^make|^Scanning' || true
 test "${PIPESTATUS[0]}" -eq 0

@@ -1,7 +1,83 @@
-// evsim: command-line runner on the core library.
+// evsim: command-line runner on the core library (no ROS).
+//
+//   evsim run SCENE [--steps N] [--json]   step a scene, print progress or JSON
+//   evsim list                             shipped scenes
+#include <cstdlib>
+#include <cstring>
 #include <iostream>
+#include <string>
 
-int main() {
-  std::cout << "evsim\n";
+#include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/scene/scene_file.h"
+#include "endovascular_sim/sim/simulation.h"
+#include "step_json.h"
+
+namespace evsim {
+namespace {
+
+int usage(const char* why = nullptr) {
+  if (why) std::cerr << "evsim: " << why << "\n";
+  std::cerr << "usage:\n"
+               "  evsim run SCENE [--steps N] [--json]   SCENE: a path or a shipped scene name\n"
+               "  evsim list                             the shipped scenes\n";
+  return 2;
+}
+
+int runCommand(int argc, char** argv) {
+  if (argc < 1) return usage("run needs a SCENE");
+  const std::string scene = argv[0];
+  long steps = 1000;
+  bool json = false;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--json")) {
+      json = true;
+    } else if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) {
+      char* end = nullptr;
+      steps = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || steps < 0) return usage("--steps needs a whole number >= 0");
+    } else {
+      return usage((std::string("unknown argument ") + argv[i]).c_str());
+    }
+  }
+  const SceneModel model = loadScene(scene);
+  SimData data = makeData(model);
+  const long report_every = std::max(1L, static_cast<long>(0.1 / model.time_step + 0.5));
+  double wall_ms = 0.0;
+  for (long k = 0; k < steps; ++k) {
+    if (step(model, &data) != StepStatus::kOk) {
+      std::cerr << "evsim: step " << data.step + 1 << " failed: " << data.last_error << "\n";
+      return 1;
+    }
+    wall_ms += data.stats.wall_ms;
+    if (json) {
+      std::cout << stepJson(model, data) << "\n";
+    } else if (data.step % report_every == 0 || k + 1 == steps) {
+      const DeviceState& d = data.devices.front();
+      const Vec3& tip = d.position.back();
+      std::cout << "t=" << data.time << " s  " << model.devices.front().name
+                << " inserted=" << d.inserted_length * 1e3 << " mm  tip=(" << tip.x() * 1e3 << ", "
+                << tip.y() * 1e3 << ", " << tip.z() * 1e3 << ") mm  contacts=" << data.stats.contacts
+                << "  mean step " << wall_ms / data.step << " ms\n";
+    }
+  }
   return 0;
+}
+
+}  // namespace
+}  // namespace evsim
+
+int main(int argc, char** argv) {
+  if (argc < 2) return evsim::usage();
+  const std::string command = argv[1];
+  try {
+    if (command == "run") return evsim::runCommand(argc - 2, argv + 2);
+    if (command == "list") {
+      for (const auto& s : evsim::shippedScenes()) std::cout << s << "\n";
+      return 0;
+    }
+  } catch (const evsim::LoadError& e) {
+    std::cerr << "evsim: " << e.what() << "\n";
+    return 1;
+  }
+  return evsim::usage(("unknown command " + command).c_str());
 }

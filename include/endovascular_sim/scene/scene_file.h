@@ -1,0 +1,56 @@
+// Scene files (YAML): time step, effects, devices and where they enter, and
+// an optional script of commands. See config/scenes/README.md.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "endovascular_sim/mechanics/device_model.h"
+#include "endovascular_sim/mechanics/introducer.h"
+
+namespace evsim {
+
+struct DevicePlacementSpec {
+  std::string file;            // resolved device file path
+  DeviceSpec device;
+  Introducer introducer;
+  double inserted_length{0.0};  // at start [m]
+  double rotation{0.0};         // at start [rad]
+};
+
+struct ScriptedCommand {
+  double time{0.0};  // [s] from the start
+  int device{0};     // index into the scene's devices
+  DriveCommand command;
+};
+
+struct SceneSpec {
+  std::string file;
+  std::string name;
+  std::string description;
+  double time_step{1e-3};              // [s]
+  std::vector<std::string> effects;    // names, validated
+  Vec3 gravity{0.0, 0.0, -9.81};       // [m/s^2], used with effect 'gravity'
+  std::vector<DevicePlacementSpec> devices;
+  std::vector<ScriptedCommand> script;  // sorted by time
+};
+
+/// Effects a scene may name.
+const std::vector<std::string>& knownEffects();
+
+/// Reads and validates a scene and the device files it names. Throws
+/// LoadError naming the file, the line and the field.
+SceneSpec loadSceneFile(const std::string& path);
+
+/// Folder of the shipped configuration (devices/, scenes/): $EVSIM_CONFIG_DIR
+/// or the package's config/.
+std::string configDirectory();
+
+/// A path as is, or the name of a shipped scene (config/scenes/NAME.yaml).
+/// Throws LoadError when neither exists.
+std::string resolveScenePath(const std::string& name_or_path);
+
+/// Names of the shipped scenes, sorted.
+std::vector<std::string> shippedScenes();
+
+}  // namespace evsim

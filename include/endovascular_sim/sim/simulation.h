@@ -1,0 +1,82 @@
+// The simulation: an immutable SceneModel built once per scene, the SimData
+// workspace it steps, and step() — the pipeline of the paper:
+//
+//   apply commands     insertion / rotation targets -> held proximal nodes
+//   free motion        A dq_f = f (A = M/dt^2 + D/dt + K, CHOLMOD)
+//   commit             positions, velocities, statistics
+//
+// (Collision detection and contact resolution join in later stages.)
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "endovascular_sim/mechanics/device_model.h"
+#include "endovascular_sim/mechanics/device_state.h"
+#include "endovascular_sim/mechanics/implicit_euler.h"
+#include "endovascular_sim/mechanics/introducer.h"
+#include "endovascular_sim/scene/scene_file.h"
+
+namespace evsim {
+
+/// Effects switched on by the scene. An effect that is off costs nothing.
+struct EffectSet {
+  bool gravity{false};
+};
+
+struct SceneModel {
+  std::string name;
+  std::string file;
+  double time_step{1e-3};  // [s]
+  EffectSet effects;
+  Vec3 gravity{0.0, 0.0, 0.0};  // [m/s^2]; zero unless the effect is on
+  std::vector<DeviceModel> devices;
+  std::vector<Introducer> introducers;
+  std::vector<double> initial_inserted_length;  // [m]
+  std::vector<double> initial_rotation;         // [rad]
+  std::vector<ScriptedCommand> script;
+};
+
+/// Statistics of the last step (reset every step).
+struct StepStats {
+  double wall_ms{0.0};           // whole step [ms]
+  double assembly_ms{0.0};       // [ms], all devices
+  double factorization_ms{0.0};  // [ms]
+  double solve_ms{0.0};          // [ms]
+  int contacts{0};
+  double max_penetration_m{0.0};  // [m]
+};
+
+enum class StepStatus { kOk, kSolverFailure };
+
+struct SimData {
+  double time{0.0};  // [s]
+  long step{0};
+  std::vector<DeviceState> devices;
+  std::vector<DriveCommand> commands;
+  std::vector<DeviceWorkspace> workspaces;
+  size_t next_script_entry{0};
+  StepStats stats;
+  std::string last_error;  // why the last failed step was rejected
+};
+
+SceneModel buildSceneModel(const SceneSpec& spec);
+
+/// Loads a scene by name or path (throws LoadError).
+SceneModel loadScene(const std::string& name_or_path);
+
+/// Fresh data at the scene's initial state.
+SimData makeData(const SceneModel& model);
+
+/// Index of a device by name, -1 when unknown.
+int findDevice(const SceneModel& model, const std::string& name);
+
+/// Sets a device's drive command; returns why it was refused ("" if accepted).
+std::string setCommand(const SceneModel& model, SimData* data, const std::string& device,
+                       const DriveCommand& command);
+
+/// Advances the simulation by model.time_step. On failure the previous state
+/// is kept and data->last_error says why; no NaN ever reaches the state.
+StepStatus step(const SceneModel& model, SimData* data);
+
+}  // namespace evsim

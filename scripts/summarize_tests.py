@@ -1,0 +1,45 @@
+#!/usr/bin/env python3
+"""Counts test cases in JUnit XML files (gtest, rostest) under a folder.
+
+Prints failing cases by name and a closing line "N passed, N failed" (with
+", N skipped" when any). Exits 1 when a case failed or none ran.
+catkin_test_results is not used: Debian's version counts a gtest file's
+<testsuites> total on top of its suites, doubling the count.
+"""
+import pathlib
+import sys
+import xml.etree.ElementTree as ET
+
+
+def main(folder):
+    passed = failed = skipped = 0
+    broken_files = []
+    for path in sorted(pathlib.Path(folder).rglob("*.xml")):
+        try:
+            root = ET.parse(path).getroot()
+        except ET.ParseError:
+            broken_files.append(path)
+            continue
+        for case in root.iter("testcase"):
+            name = f"{case.get('classname', '')}.{case.get('name', '')}"
+            if case.find("failure") is not None or case.find("error") is not None:
+                failed += 1
+                print(f"FAILED: {name} ({path.name})")
+            elif case.find("skipped") is not None or case.get("result") == "skipped" \
+                    or case.get("status") == "notrun":
+                skipped += 1
+                print(f"SKIPPED: {name} ({path.name})")
+            else:
+                passed += 1
+    for path in broken_files:
+        failed += 1
+        print(f"FAILED: unreadable result file {path}")
+    line = f"{passed} passed, {failed} failed"
+    if skipped:
+        line += f", {skipped} skipped"
+    print(line)
+    return 0 if failed == 0 and passed > 0 else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1]))

@@ -1,0 +1,219 @@
+#include "endovascular_sim/scene/scene_file.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+#include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/scene/device_file.h"
+
+namespace evsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Typed access to YAML nodes with errors that name the file, line and field.
+class YamlReader {
+ public:
+  explicit YamlReader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& field,
+                         const std::string& what) const {
+    const int line = node.IsDefined() ? node.Mark().line + 1 : 0;
+    throw LoadError(file_, line > 0 ? line : 0, field, what);
+  }
+
+  YAML::Node required(const YAML::Node& parent, const std::string& key,
+                      const std::string& field) const {
+    const YAML::Node n = parent[key];
+    if (!n) fail(parent, field, "is missing");
+    return n;
+  }
+
+  double number(const YAML::Node& n, const std::string& field) const {
+    double v;
+    try {
+      v = n.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(n, field, "must be a number");
+    }
+    if (!std::isfinite(v)) fail(n, field, "must be finite");
+    return v;
+  }
+
+  double number(const YAML::Node& parent, const std::string& key, const std::string& prefix,
+                double fallback) const {
+    const YAML::Node n = parent[key];
+    return n ? number(n, prefix + key) : fallback;
+  }
+
+  std::string text(const YAML::Node& n, const std::string& field) const {
+    if (!n.IsScalar()) fail(n, field, "must be a string");
+    return n.as<std::string>();
+  }
+
+  Vec3 vector3(const YAML::Node& n, const std::string& field) const {
+    if (!n.IsSequence() || n.size() != 3) fail(n, field, "must be a list of 3 numbers");
+    return Vec3(number(n[0], field), number(n[1], field), number(n[2], field));
+  }
+
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+};
+
+Mat3 introducerFrame(const Vec3& direction, const Vec3& up) {
+  const Vec3 x = direction.normalized();
+  Vec3 z = up - up.dot(x) * x;
+  if (z.norm() < 1e-6) z = x.unitOrthogonal();
+  z.normalize();
+  Mat3 R;
+  R << x, z.cross(x), z;
+  return R;
+}
+
+DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int index,
+                               const fs::path& scene_dir) {
+  const std::string p = "devices[" + std::to_string(index) + "].";
+  if (!n.IsMap()) r.fail(n, p.substr(0, p.size() - 1), "must be a map");
+  DevicePlacementSpec d;
+  const fs::path file = r.text(r.required(n, "file", p + "file"), p + "file");
+  d.file = (file.is_absolute() ? file : scene_dir / file).lexically_normal().string();
+  if (!fs::exists(d.file)) r.fail(n["file"], p + "file", "no device file " + d.file);
+  d.device = loadDeviceFile(d.file);
+  if (n["name"]) d.device.name = r.text(n["name"], p + "name");
+  d.introducer.access_point = r.vector3(r.required(n, "access_point", p + "access_point"),
+                                        p + "access_point");
+  const Vec3 dir = r.vector3(r.required(n, "insertion_direction", p + "insertion_direction"),
+                             p + "insertion_direction");
+  if (dir.norm() < 1e-9) r.fail(n["insertion_direction"], p + "insertion_direction", "is zero");
+  const Vec3 up = n["up"] ? r.vector3(n["up"], p + "up") : Vec3(0.0, 0.0, 1.0);
+  d.introducer.frame = introducerFrame(dir, up);
+  const DeviceModel model = buildDeviceModel(d.device);
+  d.inserted_length = r.number(n, "inserted_length", p, 0.0);
+  if (d.inserted_length < 0.0 || d.inserted_length > model.length)
+    r.fail(n["inserted_length"], p + "inserted_length",
+           "must lie in [0, " + std::to_string(model.length) + "] m (the device's length)");
+  d.rotation = r.number(n, "rotation", p, 0.0);
+  return d;
+}
+
+ScriptedCommand readCommand(const YamlReader& r, const YAML::Node& n, int index,
+                            const SceneSpec& scene) {
+  const std::string p = "script[" + std::to_string(index) + "].";
+  ScriptedCommand c;
+  c.time = r.number(r.required(n, "time", p + "time"), p + "time");
+  if (c.time < 0.0) r.fail(n["time"], p + "time", "must not be negative");
+  const std::string name = r.text(r.required(n, "device", p + "device"), p + "device");
+  c.device = -1;
+  for (size_t i = 0; i < scene.devices.size(); ++i)
+    if (scene.devices[i].device.name == name) c.device = static_cast<int>(i);
+  if (c.device < 0) r.fail(n["device"], p + "device", "unknown device '" + name + "'");
+  const std::string mode = n["mode"] ? r.text(n["mode"], p + "mode") : "velocity";
+  if (mode == "velocity")
+    c.command.mode = DriveCommand::Mode::kVelocity;
+  else if (mode == "position")
+    c.command.mode = DriveCommand::Mode::kPosition;
+  else
+    r.fail(n["mode"], p + "mode", "must be 'velocity' or 'position'");
+  c.command.insertion = r.number(n, "insertion", p, 0.0);
+  c.command.rotation = r.number(n, "rotation", p, 0.0);
+  const std::string why = validateDriveCommand(c.command, buildDeviceModel(scene.devices[c.device].device));
+  if (!why.empty()) r.fail(n, p.substr(0, p.size() - 1), why);
+  return c;
+}
+
+}  // namespace
+
+const std::vector<std::string>& knownEffects() {
+  static const std::vector<std::string> effects = {"gravity"};
+  return effects;
+}
+
+SceneSpec loadSceneFile(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw LoadError(path, 0, "", "cannot open the scene file");
+  } catch (const YAML::ParserException& e) {
+    throw LoadError(path, e.mark.line + 1, "", "malformed YAML: " + e.msg);
+  }
+  const YamlReader r(path);
+  if (!root.IsMap()) r.fail(root, "", "a scene is a YAML map");
+  SceneSpec s;
+  s.file = path;
+  s.name = r.text(r.required(root, "name", "name"), "name");
+  if (root["description"]) s.description = r.text(root["description"], "description");
+  s.time_step = r.number(r.required(root, "time_step", "time_step"), "time_step");
+  if (!(s.time_step > 0.0 && s.time_step <= 0.04))
+    r.fail(root["time_step"], "time_step", "must lie in (0, 0.04] s");
+
+  if (root["effects"]) {
+    const YAML::Node e = root["effects"];
+    if (!e.IsSequence()) r.fail(e, "effects", "must be a list of effect names");
+    for (size_t i = 0; i < e.size(); ++i) {
+      const std::string name = r.text(e[i], "effects");
+      const auto& known = knownEffects();
+      if (std::find(known.begin(), known.end(), name) == known.end()) {
+        std::string list;
+        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+        r.fail(e[i], "effects", "unknown effect '" + name + "' (known: " + list + ")");
+      }
+      s.effects.push_back(name);
+    }
+  }
+  if (root["gravity"]) s.gravity = r.vector3(root["gravity"], "gravity");
+
+  const YAML::Node devices = r.required(root, "devices", "devices");
+  if (!devices.IsSequence() || devices.size() == 0)
+    r.fail(devices, "devices", "must be a non-empty list");
+  const fs::path dir = fs::path(path).parent_path();
+  for (size_t i = 0; i < devices.size(); ++i) {
+    s.devices.push_back(readDevice(r, devices[i], static_cast<int>(i), dir));
+    for (size_t j = 0; j < i; ++j)
+      if (s.devices[j].device.name == s.devices[i].device.name)
+        r.fail(devices[i], "devices[" + std::to_string(i) + "].name",
+               "device name '" + s.devices[i].device.name + "' is used twice");
+  }
+
+  if (root["script"]) {
+    const YAML::Node script = root["script"];
+    if (!script.IsSequence()) r.fail(script, "script", "must be a list of commands");
+    for (size_t i = 0; i < script.size(); ++i)
+      s.script.push_back(readCommand(r, script[i], static_cast<int>(i), s));
+    std::stable_sort(s.script.begin(), s.script.end(),
+                     [](const ScriptedCommand& a, const ScriptedCommand& b) { return a.time < b.time; });
+  }
+  return s;
+}
+
+std::string configDirectory() {
+  const char* env = std::getenv("EVSIM_CONFIG_DIR");
+  return env && *env ? env : EVSIM_CONFIG_DIR;
+}
+
+std::string resolveScenePath(const std::string& name_or_path) {
+  if (fs::exists(name_or_path) && fs::is_regular_file(name_or_path)) return name_or_path;
+  const fs::path shipped = fs::path(configDirectory()) / "scenes" / (name_or_path + ".yaml");
+  if (fs::exists(shipped)) return shipped.string();
+  std::string list;
+  for (const auto& s : shippedScenes()) list += (list.empty() ? "" : ", ") + s;
+  throw LoadError(name_or_path, 0, "", "no such scene file, nor a shipped scene (shipped: " + list + ")");
+}
+
+std::vector<std::string> shippedScenes() {
+  std::vector<std::string> names;
+  const fs::path dir = fs::path(configDirectory()) / "scenes";
+  if (!fs::exists(dir)) return names;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace evsim

@@ -1,0 +1,37 @@
+#include "step_json.h"
+
+#include <cstdio>
+#include <sstream>
+
+namespace evsim {
+namespace {
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.9g", v);
+  return buf;
+}
+
+}  // namespace
+
+std::string stepJson(const SceneModel& model, const SimData& data) {
+  const StepStats& s = data.stats;
+  std::ostringstream o;
+  o << "{\"step\":" << data.step << ",\"t\":" << num(data.time) << ",\"wall_ms\":" << num(s.wall_ms)
+    << ",\"assembly_ms\":" << num(s.assembly_ms)
+    << ",\"factorization_ms\":" << num(s.factorization_ms) << ",\"solve_ms\":" << num(s.solve_ms)
+    << ",\"contacts\":" << s.contacts << ",\"max_penetration_m\":" << num(s.max_penetration_m)
+    << ",\"devices\":[";
+  for (size_t i = 0; i < model.devices.size(); ++i) {
+    const DeviceState& d = data.devices[i];
+    const Vec3& tip = d.position.back();
+    o << (i ? "," : "") << "{\"name\":\"" << model.devices[i].name << "\",\"tip\":["
+      << num(tip.x()) << "," << num(tip.y()) << "," << num(tip.z())
+      << "],\"inserted_m\":" << num(d.inserted_length)
+      << ",\"rotation_rad\":" << num(d.rotation_angle) << "}";
+  }
+  o << "]}";
+  return o.str();
+}
+
+}  // namespace evsim

@@ -1,0 +1,14 @@
+// One JSON object per simulation step, for `evsim run --json`.
+#pragma once
+
+#include <string>
+
+#include "endovascular_sim/sim/simulation.h"
+
+namespace evsim {
+
+/// {"step", "t" [s], "wall_ms", "contacts", "max_penetration_m", stage times,
+///  "devices": [{"name", "tip" [m, xyz], "inserted_m", "rotation_rad"}]}
+std::string stepJson(const SceneModel& model, const SimData& data);
+
+}  // namespace evsim

@@ -1,0 +1,232 @@
+// Device and scene files: shipped ones load; each kind of bad input gives an
+// error that names the file, the line and the field, and nothing crashes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/scene/device_file.h"
+#include "endovascular_sim/scene/scene_file.h"
+#include "endovascular_sim/sim/simulation.h"
+
+namespace evsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kDevice = R"(<?xml version="1.0"?>
+<robot name="wire">
+  <link name="shaft">
+    <inertial><mass value="0.0002"/>
+      <inertia ixx="1e-6" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="1e-12"/></inertial>
+    <collision><geometry><cylinder radius="0.000178" length="0.3"/></geometry></collision>
+  </link>
+  <link name="tip">
+    <inertial><mass value="0.00001"/>
+      <inertia ixx="1e-9" ixy="0" ixz="0" iyy="1e-9" iyz="0" izz="1e-13"/></inertial>
+    <collision><geometry><cylinder radius="0.000178" length="0.02"/></geometry></collision>
+  </link>
+  <joint name="j" type="fixed"><parent link="shaft"/><child link="tip"/></joint>
+  <evsim_device max_insertion_speed="0.05" max_rotation_speed="6.28"/>
+  <evsim_section link="shaft" young_modulus="6e10" poisson_ratio="0.33" elements="30"/>
+  <evsim_section link="tip" young_modulus="2e10" poisson_ratio="0.33" elements="10"
+                 rest_curvature="0 0 100"/>
+</robot>
+)";
+
+const char* kScene = R"(name: test
+time_step: 0.001
+effects: [gravity]
+gravity: [0, 0, -9.81]
+devices:
+  - file: wire.urdf
+    access_point: [0, 0, 0]
+    insertion_direction: [1, 0, 0]
+    inserted_length: 0.05
+script:
+  - {time: 0.5, device: wire, insertion: 0.01}
+)";
+
+class Loader : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("evsim_loader_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+            "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& text) {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path) << text;
+    return path;
+  }
+
+  /// Writes the device with `from` replaced by `to`, loads it, returns the error.
+  LoadError deviceError(const std::string& from, const std::string& to) {
+    std::string text = kDevice;
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    const std::string path = write("wire.urdf", text);
+    try {
+      loadDeviceFile(path);
+    } catch (const LoadError& e) {
+      return e;
+    }
+    ADD_FAILURE() << "no error for " << to;
+    return LoadError("", 0, "", "");
+  }
+
+  LoadError sceneError(const std::string& from, const std::string& to) {
+    write("wire.urdf", kDevice);
+    std::string text = kScene;
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    const std::string path = write("scene.yaml", text);
+    try {
+      loadSceneFile(path);
+    } catch (const LoadError& e) {
+      return e;
+    }
+    ADD_FAILURE() << "no error for " << to;
+    return LoadError("", 0, "", "");
+  }
+
+  fs::path dir_;
+};
+
+void expectNames(const LoadError& e, const std::string& file, int line, const std::string& field,
+                 const std::string& words) {
+  EXPECT_EQ(fs::path(e.file()).filename().string(), file) << e.what();
+  EXPECT_EQ(e.line(), line) << e.what();
+  EXPECT_EQ(e.field(), field) << e.what();
+  EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find(file + ":" + std::to_string(line)), std::string::npos)
+      << e.what();
+}
+
+TEST_F(Loader, ValidDeviceAndSceneLoad) {
+  write("wire.urdf", kDevice);
+  const SceneSpec s = loadSceneFile(write("scene.yaml", kScene));
+  ASSERT_EQ(s.devices.size(), 1u);
+  const DeviceSpec& d = s.devices[0].device;
+  EXPECT_EQ(d.name, "wire");
+  ASSERT_EQ(d.sections.size(), 2u);
+  EXPECT_EQ(d.sections[0].name, "shaft");  // proximal first
+  EXPECT_EQ(d.sections[1].elements, 10);
+  EXPECT_DOUBLE_EQ(d.sections[1].rest_curvature.z(), 100.0);
+  EXPECT_NEAR(d.sections[0].section.shear_modulus, 6e10 / 2.66, 1.0);
+  // Density from the URDF mass: m / (pi r^2 L).
+  EXPECT_NEAR(d.sections[0].section.density, 0.0002 / (M_PI * 0.000178 * 0.000178 * 0.3), 1e-6);
+  EXPECT_EQ(s.script.size(), 1u);
+}
+
+TEST_F(Loader, MissingFieldIsNamed) {
+  expectNames(deviceError("young_modulus=\"6e10\" ", ""), "wire.urdf", 15,
+              "evsim_section[shaft]/young_modulus", "is missing");
+}
+
+TEST_F(Loader, NegativeRadiusIsNamed) {
+  expectNames(deviceError("radius=\"0.000178\" length=\"0.3\"", "radius=\"-0.000178\" length=\"0.3\""),
+              "wire.urdf", 6, "link[shaft]/cylinder/radius", "must be positive");
+}
+
+TEST_F(Loader, NanIsNamed) {
+  expectNames(deviceError("young_modulus=\"2e10\"", "young_modulus=\"nan\""), "wire.urdf", 16,
+              "evsim_section[tip]/young_modulus", "must be finite");
+}
+
+TEST_F(Loader, ZeroLengthSectionIsNamed) {
+  expectNames(deviceError("length=\"0.02\"", "length=\"0\""), "wire.urdf", 11,
+              "link[tip]/cylinder/length", "must be positive");
+}
+
+TEST_F(Loader, MissingExtensionOfALinkIsNamed) {
+  const LoadError e = deviceError(
+      "<evsim_section link=\"shaft\" young_modulus=\"6e10\" poisson_ratio=\"0.33\" elements=\"30\"/>",
+      "");
+  expectNames(e, "wire.urdf", 3, "evsim_section[shaft]", "every link needs");
+}
+
+TEST_F(Loader, InnerRadiusWiderThanOuterIsRefused) {
+  expectNames(deviceError("elements=\"30\"", "elements=\"30\" inner_radius=\"0.001\""), "wire.urdf",
+              15, "evsim_section[shaft]/inner_radius", "must be smaller");
+}
+
+TEST_F(Loader, MalformedXmlGivesItsLine) {
+  const LoadError e = deviceError("</link>\n  <link name=\"tip\">", "<link name=\"tip\">");
+  EXPECT_EQ(fs::path(e.file()).filename(), "wire.urdf");
+  EXPECT_GT(e.line(), 0);
+  EXPECT_NE(std::string(e.what()).find("malformed XML"), std::string::npos) << e.what();
+}
+
+TEST_F(Loader, UnknownDeviceInScriptIsNamed) {
+  expectNames(sceneError("device: wire", "device: catheter"), "scene.yaml", 11, "script[0].device",
+              "unknown device 'catheter'");
+}
+
+TEST_F(Loader, MissingSceneFieldIsNamed) {
+  expectNames(sceneError("time_step: 0.001\n", ""), "scene.yaml", 1, "time_step", "is missing");
+}
+
+TEST_F(Loader, NanInSceneIsNamed) {
+  expectNames(sceneError("[0, 0, -9.81]", "[0, .nan, -9.81]"), "scene.yaml", 4, "gravity",
+              "must be finite");
+}
+
+TEST_F(Loader, UnknownEffectIsNamed) {
+  expectNames(sceneError("[gravity]", "[gravity, magnetism]"), "scene.yaml", 3, "effects",
+              "unknown effect 'magnetism'");
+}
+
+TEST_F(Loader, MissingDeviceFileIsNamed) {
+  expectNames(sceneError("file: wire.urdf", "file: nowhere.urdf"), "scene.yaml", 6,
+              "devices[0].file", "no device file");
+}
+
+TEST_F(Loader, InsertedLengthBeyondTheDeviceIsRefused) {
+  expectNames(sceneError("inserted_length: 0.05", "inserted_length: 0.5"), "scene.yaml", 9,
+              "devices[0].inserted_length", "must lie in");
+}
+
+TEST_F(Loader, ScriptedCommandBeyondLimitsIsRefused) {
+  expectNames(sceneError("insertion: 0.01", "insertion: 0.2"), "scene.yaml", 11, "script[0]",
+              "exceeds the limit");
+}
+
+TEST_F(Loader, MalformedYamlGivesItsLine) {
+  const LoadError e = sceneError("  - file: wire.urdf", "  - file: [wire.urdf");
+  EXPECT_GT(e.line(), 0);
+  EXPECT_NE(std::string(e.what()).find("malformed YAML"), std::string::npos) << e.what();
+}
+
+TEST(ShippedConfig, EveryDeviceAndSceneLoadsAndSteps) {
+  const auto scenes = shippedScenes();
+  ASSERT_FALSE(scenes.empty());
+  for (const auto& name : scenes) {
+    const SceneModel model = loadScene(name);
+    SimData data = makeData(model);
+    for (int k = 0; k < 20; ++k) ASSERT_EQ(step(model, &data), StepStatus::kOk) << name;
+  }
+  for (const char* device : {"guidewire", "catheter", "coil"}) {
+    const DeviceModel m =
+        buildDeviceModel(loadDeviceFile(configDirectory() + "/devices/" + device + ".urdf"));
+    EXPECT_GE(m.num_nodes, 100) << device;
+  }
+}
+
+TEST(ShippedConfig, UnknownSceneNameListsTheShippedOnes) {
+  try {
+    resolveScenePath("no_such_scene");
+    FAIL();
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("free_insertion"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace evsim
