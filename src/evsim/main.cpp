@@ -56,8 +56,9 @@ int runCommand(int argc, char** argv) {
       const Vec3& tip = d.position.back();
       std::cout << "t=" << data.time << " s  " << model.devices.front().name
                 << " inserted=" << d.inserted_length * 1e3 << " mm  tip=(" << tip.x() * 1e3 << ", "
-                << tip.y() * 1e3 << ", " << tip.z() * 1e3 << ") mm  contacts=" << data.stats.contacts
-                << "  mean step " << wall_ms / data.step << " ms\n";
+                << tip.y() * 1e3 << ", " << tip.z() * 1e3
+                << ") mm  contacts=" << data.stats.contacts << "  mean step " << wall_ms / data.step
+                << " ms\n";
     }
   }
   return 0;

@@ -25,9 +25,8 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
   for (size_t i = 0; i < model.devices.size(); ++i) {
     const DeviceState& d = data.devices[i];
     const Vec3& tip = d.position.back();
-    o << (i ? "," : "") << "{\"name\":\"" << model.devices[i].name << "\",\"tip\":["
-      << num(tip.x()) << "," << num(tip.y()) << "," << num(tip.z())
-      << "],\"inserted_m\":" << num(d.inserted_length)
+    o << (i ? "," : "") << "{\"name\":\"" << model.devices[i].name << "\",\"tip\":[" << num(tip.x())
+      << "," << num(tip.y()) << "," << num(tip.z()) << "],\"inserted_m\":" << num(d.inserted_length)
       << ",\"rotation_rad\":" << num(d.rotation_angle) << "}";
   }
   o << "]}";

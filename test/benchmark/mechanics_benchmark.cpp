@@ -35,7 +35,12 @@ void BM_FreeMotionStep(benchmark::State& st) {
   st.counters["elements"] = elements;
   st.SetComplexityN(elements);
 }
-BENCHMARK(BM_FreeMotionStep)->Arg(50)->Arg(100)->Arg(200)->Arg(400)->Complexity(benchmark::oN)
+BENCHMARK(BM_FreeMotionStep)
+    ->Arg(50)
+    ->Arg(100)
+    ->Arg(200)
+    ->Arg(400)
+    ->Complexity(benchmark::oN)
     ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

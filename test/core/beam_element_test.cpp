@@ -29,10 +29,18 @@ Vec12 gradientOf(const BeamElementRest& rest, const Pose2& p) {
 Pose2 perturbed(Pose2 p, int j, double h) {
   const Vec3 d = h * Vec3::Unit(j % 3);
   switch (j / 3) {
-    case 0: p.x1 += d; break;
-    case 1: p.R1 = expSO3(d) * p.R1; break;
-    case 2: p.x2 += d; break;
-    default: p.R2 = expSO3(d) * p.R2; break;
+    case 0:
+      p.x1 += d;
+      break;
+    case 1:
+      p.R1 = expSO3(d) * p.R1;
+      break;
+    case 2:
+      p.x2 += d;
+      break;
+    default:
+      p.R2 = expSO3(d) * p.R2;
+      break;
   }
   return p;
 }
@@ -63,8 +71,8 @@ TEST(BeamElement, GradientMatchesFiniteDifferencesOfEnergy) {
   const Vec12 g = gradientOf(rest, p);
   for (int j = 0; j < 12; ++j) {
     const double h = (j / 3) % 2 == 0 ? 1e-9 : 1e-7;
-    const double fd = (energyOf(rest, perturbed(p, j, h)) - energyOf(rest, perturbed(p, j, -h))) /
-                      (2.0 * h);
+    const double fd =
+        (energyOf(rest, perturbed(p, j, h)) - energyOf(rest, perturbed(p, j, -h))) / (2.0 * h);
     EXPECT_NEAR(g(j), fd, 1e-5 * g.cwiseAbs().maxCoeff()) << "coordinate " << j;
   }
 }
@@ -93,8 +101,8 @@ TEST(BeamElement, TangentAtRestEqualsHessian) {
   evaluateBeamElement(rest, p.x1, p.R1, p.x2, p.R2, true, &ev);
   for (int j = 0; j < 12; ++j) {
     const double h = (j / 3) % 2 == 0 ? 1e-9 : 1e-7;
-    const Vec12 fd = (gradientOf(rest, perturbed(p, j, h)) - gradientOf(rest, perturbed(p, j, -h))) /
-                     (2.0 * h);
+    const Vec12 fd =
+        (gradientOf(rest, perturbed(p, j, h)) - gradientOf(rest, perturbed(p, j, -h))) / (2.0 * h);
     EXPECT_LT((fd - ev.stiffness.col(j)).norm(), 1e-4 * ev.stiffness.norm()) << "column " << j;
   }
 }

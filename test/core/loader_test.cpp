@@ -131,8 +131,9 @@ TEST_F(Loader, MissingFieldIsNamed) {
 }
 
 TEST_F(Loader, NegativeRadiusIsNamed) {
-  expectNames(deviceError("radius=\"0.000178\" length=\"0.3\"", "radius=\"-0.000178\" length=\"0.3\""),
-              "wire.urdf", 6, "link[shaft]/cylinder/radius", "must be positive");
+  expectNames(
+      deviceError("radius=\"0.000178\" length=\"0.3\"", "radius=\"-0.000178\" length=\"0.3\""),
+      "wire.urdf", 6, "link[shaft]/cylinder/radius", "must be positive");
 }
 
 TEST_F(Loader, NanIsNamed) {
@@ -147,7 +148,8 @@ TEST_F(Loader, ZeroLengthSectionIsNamed) {
 
 TEST_F(Loader, MissingExtensionOfALinkIsNamed) {
   const LoadError e = deviceError(
-      "<evsim_section link=\"shaft\" young_modulus=\"6e10\" poisson_ratio=\"0.33\" elements=\"30\"/>",
+      "<evsim_section link=\"shaft\" young_modulus=\"6e10\" poisson_ratio=\"0.33\" "
+      "elements=\"30\"/>",
       "");
   expectNames(e, "wire.urdf", 3, "evsim_section[shaft]", "every link needs");
 }

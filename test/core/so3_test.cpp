@@ -33,9 +33,9 @@ TEST(So3, RightJacobianMatchesFiniteDifferences) {
     const Mat3 Jr = rightJacobian(phi);
     for (int j = 0; j < 3; ++j) {
       const Vec3 d = h * Vec3::Unit(j);
-      const Vec3 fd =
-          (logSO3(expSO3(phi).transpose() * expSO3(phi + d)) -
-           logSO3(expSO3(phi).transpose() * expSO3(phi - d))) / (2.0 * h);
+      const Vec3 fd = (logSO3(expSO3(phi).transpose() * expSO3(phi + d)) -
+                       logSO3(expSO3(phi).transpose() * expSO3(phi - d))) /
+                      (2.0 * h);
       EXPECT_LT((fd - Jr.col(j)).norm(), 1e-8);
     }
     EXPECT_LT((rightJacobianInverse(phi) * Jr - Mat3::Identity()).norm(), 1e-12);

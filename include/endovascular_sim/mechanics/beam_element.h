@@ -20,9 +20,9 @@
 namespace evsim {
 
 struct BeamElementRest {
-  double length{0.0};                 // L0 [m]
-  Vec3 stretch_shear{1.0, 0.0, 0.0};  // Gamma0 [-]
-  Vec3 curvature{0.0, 0.0, 0.0};      // kappa0 (twist, bend y, bend z) [1/m]
+  double length{0.0};                           // L0 [m]
+  Vec3 stretch_shear{1.0, 0.0, 0.0};            // Gamma0 [-]
+  Vec3 curvature{0.0, 0.0, 0.0};                // kappa0 (twist, bend y, bend z) [1/m]
   Vec3 stretch_shear_stiffness{0.0, 0.0, 0.0};  // (EA, kGA, kGA) [N]
   Vec3 bend_twist_stiffness{0.0, 0.0, 0.0};     // (GJ, EI, EI) [N m^2]
 };
@@ -36,8 +36,7 @@ struct BeamElementEval {
 
 /// Evaluates energy and gradient, and the tangent when with_stiffness.
 void evaluateBeamElement(const BeamElementRest& rest, const Vec3& x1, const Mat3& R1,
-                         const Vec3& x2, const Mat3& R2, bool with_stiffness,
-                         BeamElementEval* out);
+                         const Vec3& x2, const Mat3& R2, bool with_stiffness, BeamElementEval* out);
 
 /// Consistent tangent (Gauss-Newton part plus geometric stiffness), by
 /// central differences of the exact gradient, symmetrised. Costs 24 gradient

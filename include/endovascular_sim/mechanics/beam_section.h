@@ -13,10 +13,10 @@ struct BeamSection {
   double inner_radius{0.0};   // [m], 0 for a solid wire
   double density{0.0};        // [kg/m^3]
 
-  double area() const;           // [m^2]
-  double secondMoment() const;   // I about y or z [m^4]
-  double polarMoment() const;    // J = 2 I [m^4]
-  double poissonRatio() const;   // E / 2G - 1 [-]
+  double area() const;          // [m^2]
+  double secondMoment() const;  // I about y or z [m^4]
+  double polarMoment() const;   // J = 2 I [m^4]
+  double poissonRatio() const;  // E / 2G - 1 [-]
   /// Cowper's Timoshenko shear coefficient of a hollow circle [-].
   double shearCoefficient() const;
 

@@ -18,9 +18,9 @@ namespace evsim {
 struct DeviceSectionSpec {
   std::string name;
   BeamSection section;
-  double length{0.0};                    // [m]
-  int elements{0};                       // beam elements in this section
-  Vec3 rest_curvature{0.0, 0.0, 0.0};   // (twist, bend y, bend z) [1/m]
+  double length{0.0};                  // [m]
+  int elements{0};                     // beam elements in this section
+  Vec3 rest_curvature{0.0, 0.0, 0.0};  // (twist, bend y, bend z) [1/m]
 };
 
 /// What the device file says: sections from proximal to distal end, limits.
@@ -37,20 +37,20 @@ struct DeviceModel {
   std::string name;
   double length{0.0};  // [m]
   int num_nodes{0};
-  std::vector<double> node_s;           // material coordinate (nodes) [m]
+  std::vector<double> node_s;             // material coordinate (nodes) [m]
   std::vector<BeamElementRest> elements;  // element e joins nodes e and e+1
-  std::vector<int> element_section;     // section index of each element
-  std::vector<double> node_mass;        // lumped translational mass [kg]
-  std::vector<Vec3> node_inertia;       // lumped body inertia (Jx, Iy, Iz) [kg m^2]
-  std::vector<double> node_radius;      // outer radius [m]
-  std::vector<Vec3> rest_position;      // rest shape, proximal frame at origin [m]
+  std::vector<int> element_section;       // section index of each element
+  std::vector<double> node_mass;          // lumped translational mass [kg]
+  std::vector<Vec3> node_inertia;         // lumped body inertia (Jx, Iy, Iz) [kg m^2]
+  std::vector<double> node_radius;        // outer radius [m]
+  std::vector<Vec3> rest_position;        // rest shape, proximal frame at origin [m]
   std::vector<Mat3> rest_rotation;
-  std::vector<double> rest_twist;       // integral of rest twist from s = 0 [rad]
+  std::vector<double> rest_twist;  // integral of rest twist from s = 0 [rad]
   std::vector<std::string> section_names;
-  double max_insertion_speed{0.0};      // [m/s]
-  double max_rotation_speed{0.0};       // [rad/s]
-  double rayleigh_mass{0.0};            // [1/s]
-  double rayleigh_stiffness{0.0};       // [s]
+  double max_insertion_speed{0.0};  // [m/s]
+  double max_rotation_speed{0.0};   // [rad/s]
+  double rayleigh_mass{0.0};        // [1/s]
+  double rayleigh_stiffness{0.0};   // [s]
 };
 
 /// Discretises the sections into elements and integrates the rest shape.

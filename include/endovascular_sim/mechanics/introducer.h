@@ -29,8 +29,8 @@ void heldPose(const DeviceModel& model, const Introducer& intro, double inserted
 
 /// Device at rest: held nodes in the sheath, inserted material in its rest
 /// shape continuing from the access point.
-DeviceState placeDevice(const DeviceModel& model, const Introducer& intro,
-                        double inserted_length, double rotation_angle);
+DeviceState placeDevice(const DeviceModel& model, const Introducer& intro, double inserted_length,
+                        double rotation_angle);
 
 /// How the proximal end is driven.
 struct DriveCommand {

@@ -13,8 +13,8 @@ namespace evsim {
 
 struct StaticOptions {
   int load_steps{1};
-  int max_iterations{200};             // per load step
-  double increment_tolerance{1e-12};   // max |dq| / max(length, 1 m) at convergence
+  int max_iterations{200};            // per load step
+  double increment_tolerance{1e-12};  // max |dq| / max(length, 1 m) at convergence
 };
 
 struct StaticResult {
@@ -26,7 +26,7 @@ struct StaticResult {
 /// Dead loads: wrenches[i] = (force [N], moment [N m]) on node i. Nodes
 /// [0, clamped_nodes) keep their pose.
 StaticResult solveStaticEquilibrium(const DeviceModel& model, int clamped_nodes,
-                                    const std::vector<Vec6>& wrenches,
-                                    const StaticOptions& options, DeviceState* state);
+                                    const std::vector<Vec6>& wrenches, const StaticOptions& options,
+                                    DeviceState* state);
 
 }  // namespace evsim

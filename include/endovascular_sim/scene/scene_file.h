@@ -11,7 +11,7 @@
 namespace evsim {
 
 struct DevicePlacementSpec {
-  std::string file;            // resolved device file path
+  std::string file;  // resolved device file path
   DeviceSpec device;
   Introducer introducer;
   double inserted_length{0.0};  // at start [m]
@@ -28,9 +28,9 @@ struct SceneSpec {
   std::string file;
   std::string name;
   std::string description;
-  double time_step{1e-3};              // [s]
-  std::vector<std::string> effects;    // names, validated
-  Vec3 gravity{0.0, 0.0, -9.81};       // [m/s^2], used with effect 'gravity'
+  double time_step{1e-3};            // [s]
+  std::vector<std::string> effects;  // names, validated
+  Vec3 gravity{0.0, 0.0, -9.81};     // [m/s^2], used with effect 'gravity'
   std::vector<DevicePlacementSpec> devices;
   std::vector<ScriptedCommand> script;  // sorted by time
 };

@@ -65,8 +65,6 @@ void evaluateBeamElement(const BeamElementRest& rest, const Vec3& x1, const Mat3
   if (with_stiffness) out->stiffness = L0 * J.transpose() * c.asDiagonal() * J;
 }
 
-
-
 Mat12 beamElementConsistentTangent(const BeamElementRest& rest, const Vec3& x1, const Mat3& R1,
                                    const Vec3& x2, const Mat3& R2) {
   const double hx = 1e-7 * rest.length;  // [m]
@@ -80,10 +78,22 @@ Mat12 beamElementConsistentTangent(const BeamElementRest& rest, const Vec3& x1, 
     Mat3 R1p = R1, R1m = R1, R2p = R2, R2m = R2;
     const Vec3 d = h * Vec3::Unit(j % 3);
     switch (j / 3) {
-      case 0: x1p += d; x1m -= d; break;
-      case 1: R1p = expSO3(d) * R1; R1m = expSO3(-d) * R1; break;
-      case 2: x2p += d; x2m -= d; break;
-      default: R2p = expSO3(d) * R2; R2m = expSO3(-d) * R2; break;
+      case 0:
+        x1p += d;
+        x1m -= d;
+        break;
+      case 1:
+        R1p = expSO3(d) * R1;
+        R1m = expSO3(-d) * R1;
+        break;
+      case 2:
+        x2p += d;
+        x2m -= d;
+        break;
+      default:
+        R2p = expSO3(d) * R2;
+        R2m = expSO3(-d) * R2;
+        break;
     }
     evaluateBeamElement(rest, x1p, R1p, x2p, R2p, false, &plus);
     evaluateBeamElement(rest, x1m, R1m, x2m, R2m, false, &minus);

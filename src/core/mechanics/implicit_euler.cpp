@@ -42,8 +42,7 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
     ws->dq.segment<3>(6 * i + 3) = logSO3(R * state.rotation[i].toRotationMatrix().transpose());
   }
 
-  ws->elastic_energy =
-      assembleElasticity(model, state, &ws->elastic_gradient, &ws->stiffness);
+  ws->elastic_energy = assembleElasticity(model, state, &ws->elastic_gradient, &ws->stiffness);
   const double cm = 1.0 / (dt * dt) + model.rayleigh_mass / dt;
   const double ck = 1.0 + model.rayleigh_stiffness / dt;
   ChainMatrix& A = ws->system;

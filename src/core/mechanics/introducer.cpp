@@ -28,8 +28,8 @@ void heldPose(const DeviceModel& model, const Introducer& intro, double inserted
   *rotation = intro.frame * rotationX(rotation_angle + model.rest_twist[node]);
 }
 
-DeviceState placeDevice(const DeviceModel& model, const Introducer& intro,
-                        double inserted_length, double rotation_angle) {
+DeviceState placeDevice(const DeviceModel& model, const Introducer& intro, double inserted_length,
+                        double rotation_angle) {
   DeviceState s = restState(model);
   s.inserted_length = inserted_length;
   s.rotation_angle = rotation_angle;
@@ -59,8 +59,8 @@ std::string validateDriveCommand(const DriveCommand& command, const DeviceModel&
       why << "rotation speed " << command.rotation << " rad/s exceeds the limit "
           << model.max_rotation_speed << " rad/s of device '" << model.name << "'";
   } else if (command.insertion < 0.0 || command.insertion > model.length) {
-    why << "target inserted length " << command.insertion << " m is outside [0, "
-        << model.length << "] m for device '" << model.name << "'";
+    why << "target inserted length " << command.insertion << " m is outside [0, " << model.length
+        << "] m for device '" << model.name << "'";
   }
   return why.str();
 }

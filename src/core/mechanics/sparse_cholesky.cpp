@@ -49,8 +49,8 @@ void SparseCholesky::analyze(int n, const std::vector<int>& col_ptr,
   n_ = n;
   if (n == 0) return;
   const size_t nnz = row_idx.size();
-  impl_->matrix = cholmod_allocate_sparse(n, n, nnz, /*sorted=*/1, /*packed=*/1, /*stype=*/1,
-                                          CHOLMOD_REAL, c);
+  impl_->matrix =
+      cholmod_allocate_sparse(n, n, nnz, /*sorted=*/1, /*packed=*/1, /*stype=*/1, CHOLMOD_REAL, c);
   std::memcpy(impl_->matrix->p, col_ptr.data(), sizeof(int) * (n + 1));
   std::memcpy(impl_->matrix->i, row_idx.data(), sizeof(int) * nnz);
   std::memset(impl_->matrix->x, 0, sizeof(double) * nnz);
@@ -77,8 +77,8 @@ void SparseCholesky::solveBuffer(const double* in, int rows, int cols, double* o
   b.z = nullptr;
   b.xtype = CHOLMOD_REAL;
   b.dtype = CHOLMOD_DOUBLE;
-  cholmod_solve2(CHOLMOD_A, static_cast<cholmod_factor*>(factor_), &b, nullptr, &impl_->x,
-                 nullptr, &impl_->y, &impl_->e, &impl_->common);
+  cholmod_solve2(CHOLMOD_A, static_cast<cholmod_factor*>(factor_), &b, nullptr, &impl_->x, nullptr,
+                 &impl_->y, &impl_->e, &impl_->common);
   std::memcpy(out, impl_->x->x, sizeof(double) * b.nzmax);
 }
 

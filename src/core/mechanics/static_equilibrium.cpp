@@ -18,8 +18,8 @@ VecX residual(const DeviceModel& model, const DeviceState& state, const VecX& lo
 }  // namespace
 
 StaticResult solveStaticEquilibrium(const DeviceModel& model, int clamped_nodes,
-                                    const std::vector<Vec6>& wrenches,
-                                    const StaticOptions& options, DeviceState* state) {
+                                    const std::vector<Vec6>& wrenches, const StaticOptions& options,
+                                    DeviceState* state) {
   const int n = model.num_nodes;
   VecX full_load(6 * n);
   for (int i = 0; i < n; ++i) full_load.segment<6>(6 * i) = wrenches[i];

@@ -39,8 +39,8 @@ class AttributeReader {
       values.push_back(v);
     }
     if (values.size() != count)
-      fail(name, "needs " + std::to_string(count) + " number(s), got " +
-                     std::to_string(values.size()));
+      fail(name,
+           "needs " + std::to_string(count) + " number(s), got " + std::to_string(values.size()));
     return values;
   }
 
@@ -165,9 +165,11 @@ DeviceSpec loadDeviceFile(const std::string& path) {
     const char* link = e->Attribute("link");
     if (!link) throw LoadError(path, e->Row(), "evsim_section/link", "is missing");
     if (!urdf_model->getLink(link))
-      throw LoadError(path, e->Row(), "evsim_section/link", std::string("no link named '") + link + "'");
+      throw LoadError(path, e->Row(), "evsim_section/link",
+                      std::string("no link named '") + link + "'");
     if (!sections.emplace(link, e).second)
-      throw LoadError(path, e->Row(), "evsim_section/link", std::string("'") + link + "' appears twice");
+      throw LoadError(path, e->Row(), "evsim_section/link",
+                      std::string("'") + link + "' appears twice");
   }
 
   // Walk the chain from the root (proximal) link.

@@ -86,8 +86,8 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
   if (!fs::exists(d.file)) r.fail(n["file"], p + "file", "no device file " + d.file);
   d.device = loadDeviceFile(d.file);
   if (n["name"]) d.device.name = r.text(n["name"], p + "name");
-  d.introducer.access_point = r.vector3(r.required(n, "access_point", p + "access_point"),
-                                        p + "access_point");
+  d.introducer.access_point =
+      r.vector3(r.required(n, "access_point", p + "access_point"), p + "access_point");
   const Vec3 dir = r.vector3(r.required(n, "insertion_direction", p + "insertion_direction"),
                              p + "insertion_direction");
   if (dir.norm() < 1e-9) r.fail(n["insertion_direction"], p + "insertion_direction", "is zero");
@@ -122,7 +122,8 @@ ScriptedCommand readCommand(const YamlReader& r, const YAML::Node& n, int index,
     r.fail(n["mode"], p + "mode", "must be 'velocity' or 'position'");
   c.command.insertion = r.number(n, "insertion", p, 0.0);
   c.command.rotation = r.number(n, "rotation", p, 0.0);
-  const std::string why = validateDriveCommand(c.command, buildDeviceModel(scene.devices[c.device].device));
+  const std::string why =
+      validateDriveCommand(c.command, buildDeviceModel(scene.devices[c.device].device));
   if (!why.empty()) r.fail(n, p.substr(0, p.size() - 1), why);
   return c;
 }
@@ -186,8 +187,9 @@ SceneSpec loadSceneFile(const std::string& path) {
     if (!script.IsSequence()) r.fail(script, "script", "must be a list of commands");
     for (size_t i = 0; i < script.size(); ++i)
       s.script.push_back(readCommand(r, script[i], static_cast<int>(i), s));
-    std::stable_sort(s.script.begin(), s.script.end(),
-                     [](const ScriptedCommand& a, const ScriptedCommand& b) { return a.time < b.time; });
+    std::stable_sort(
+        s.script.begin(), s.script.end(),
+        [](const ScriptedCommand& a, const ScriptedCommand& b) { return a.time < b.time; });
   }
   return s;
 }
@@ -203,7 +205,8 @@ std::string resolveScenePath(const std::string& name_or_path) {
   if (fs::exists(shipped)) return shipped.string();
   std::string list;
   for (const auto& s : shippedScenes()) list += (list.empty() ? "" : ", ") + s;
-  throw LoadError(name_or_path, 0, "", "no such scene file, nor a shipped scene (shipped: " + list + ")");
+  throw LoadError(name_or_path, 0, "",
+                  "no such scene file, nor a shipped scene (shipped: " + list + ")");
 }
 
 std::vector<std::string> shippedScenes() {
