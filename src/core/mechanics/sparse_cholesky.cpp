@@ -21,6 +21,7 @@ SparseCholesky::SparseCholesky() : impl_(new Impl) {
   impl_->common.method[0].ordering = CHOLMOD_NATURAL;
   impl_->common.postorder = false;
   impl_->common.print = 0;
+  impl_->common.final_ll = true;  // LL^T: a non-positive pivot is reported
 }
 
 SparseCholesky::~SparseCholesky() {
