@@ -1,0 +1,36 @@
+// Vessel centrelines: a forest of points with radii, read from SWC files.
+//
+// SWC layout, one point per line: id type x y z radius parent (parent -1 for
+// a root); '#' starts a comment. A header comment "# units: mm" (or m, um)
+// states the unit of x, y, z and radius; otherwise the caller's default
+// applies. Each point with a parent makes one segment (parent -> point).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "endovascular_sim/core/types.h"
+
+namespace evsim {
+
+struct Centerline {
+  std::vector<Vec3> position;  // [m]
+  std::vector<double> radius;  // lumen radius [m]
+  std::vector<int> parent;     // index of the parent point, -1 for roots
+  std::vector<int> type;       // SWC type (free use: region labels)
+
+  int numPoints() const { return static_cast<int>(position.size()); }
+  int numSegments() const;
+  /// Appends another centreline (indices shifted).
+  void append(const Centerline& other);
+};
+
+/// Reads an SWC file; default_unit [m per file unit] applies when the file
+/// has no "# units:" header. Throws LoadError naming the file and line.
+Centerline loadCenterlineFile(const std::string& path, double default_unit = 1e-3);
+
+/// Writes an SWC file in millimetres.
+void saveCenterlineFile(const Centerline& centerline, const std::string& path,
+                        const std::string& comment);
+
+}  // namespace evsim

@@ -1,0 +1,195 @@
+#include "endovascular_sim/geometry/vessel_field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace evsim {
+namespace {
+
+double falloff(double s) { return s < 1.0 ? (1.0 - s * s) * (1.0 - s * s) : 0.0; }
+
+}  // namespace
+
+VesselField::VesselField(const Centerline& centerline, const std::vector<AneurysmSpec>& aneurysms,
+                         const std::vector<MotionRegion>& motion, const VesselFieldOptions& options)
+    : alpha_(options.alpha), motion_(motion) {
+  if (!(alpha_ > 0.0 && alpha_ < 1.0)) throw std::invalid_argument("alpha must lie in (0, 1)");
+  iso_ = isoValueForAlpha(alpha_);
+  sphere_weight_ = iso_ / std::pow(1.0 - alpha_ * alpha_, 3);
+  const int nr = static_cast<int>(motion_.size());
+  auto addWeights = [&](const Vec3& x) {
+    for (const auto& r : motion_)
+      motion_weights_.push_back(falloff((x - r.center).norm() / r.radius));
+  };
+  for (int i = 0; i < centerline.numPoints(); ++i) {
+    const int p = centerline.parent[i];
+    if (p < 0) continue;
+    Segment s{centerline.position[p], centerline.position[i],
+              0.5 * (centerline.radius[p] + centerline.radius[i]),
+              static_cast<int>(motion_weights_.size())};
+    if (nr) {
+      addWeights(s.a);
+      addWeights(s.b);
+    }
+    segments_.push_back(s);
+  }
+  for (const auto& a : aneurysms) {
+    spheres_.push_back({a.center, a.radius, static_cast<int>(motion_weights_.size())});
+    if (nr) {
+      addWeights(a.center);
+      addWeights(a.center);
+    }
+  }
+  buildGrid();
+}
+
+Vec3 VesselField::displaced(const Vec3& x, int weights, int endpoint,
+                            const MotionSnapshot& m) const {
+  if (m.empty()) return x;
+  Vec3 y = x;
+  const double* w = &motion_weights_[weights + endpoint * motion_.size()];
+  for (size_t k = 0; k < m.size(); ++k) y += w[k] * m[k];
+  return y;
+}
+
+MotionSnapshot VesselField::motionAt(double t) const {
+  MotionSnapshot m;
+  for (const auto& r : motion_)
+    m.push_back(r.amplitude * std::sin(2.0 * M_PI * r.frequency * t + r.phase));
+  return m;
+}
+
+std::vector<double> VesselField::motionPeriods() const {
+  std::vector<double> p;
+  for (const auto& r : motion_) p.push_back(1.0 / r.frequency);
+  return p;
+}
+
+void VesselField::buildGrid() {
+  // Support boxes (largest width: device radius 0), grown by the motion.
+  std::vector<Eigen::AlignedBox3d> boxes;
+  std::vector<double> support;
+  const int nr = static_cast<int>(motion_.size());
+  auto reach = [&](int weights, int endpoint) {
+    double d = 0.0;
+    for (int k = 0; k < nr; ++k)
+      d += motion_weights_[weights + endpoint * nr + k] * motion_[k].amplitude.norm();
+    return d;
+  };
+  for (const auto& s : segments_) {
+    const double R = s.rho / alpha_ + std::max(reach(s.weights, 0), reach(s.weights, 1));
+    Eigen::AlignedBox3d b(s.a.cwiseMin(s.b), s.a.cwiseMax(s.b));
+    boxes.emplace_back(b.min() - Vec3::Constant(R), b.max() + Vec3::Constant(R));
+    support.push_back(R);
+  }
+  for (const auto& s : spheres_) {
+    const double R = s.rho / alpha_ + reach(s.weights, 0);
+    boxes.emplace_back(s.c - Vec3::Constant(R), s.c + Vec3::Constant(R));
+    support.push_back(R);
+  }
+  bounds_.setEmpty();
+  for (const auto& b : boxes) bounds_.extend(b);
+  if (boxes.empty()) return;
+  std::vector<double> sorted = support;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const Vec3 extent = bounds_.sizes();
+  cell_ = std::max(sorted[sorted.size() / 2], extent.maxCoeff() / 256.0);
+  for (int k = 0; k < 3; ++k)
+    dims_[k] = std::max(1, static_cast<int>(std::ceil(extent[k] / cell_)));
+  const long cells = static_cast<long>(dims_[0]) * dims_[1] * dims_[2];
+
+  // Two passes: count, then fill (CSR).
+  cell_start_.assign(cells + 1, 0);
+  auto forCells = [&](const Eigen::AlignedBox3d& b, auto&& fn) {
+    int lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] =
+          std::clamp(static_cast<int>((b.min()[k] - bounds_.min()[k]) / cell_), 0, dims_[k] - 1);
+      hi[k] =
+          std::clamp(static_cast<int>((b.max()[k] - bounds_.min()[k]) / cell_), 0, dims_[k] - 1);
+    }
+    for (int z = lo[2]; z <= hi[2]; ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int x = lo[0]; x <= hi[0]; ++x) fn(cellIndex(x, y, z));
+  };
+  for (const auto& b : boxes) forCells(b, [&](long c) { ++cell_start_[c + 1]; });
+  for (long c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
+  cell_items_.resize(cell_start_[cells]);
+  std::vector<int> fill(cell_start_.begin(), cell_start_.end() - 1);
+  for (size_t i = 0; i < boxes.size(); ++i)
+    forCells(boxes[i], [&](long c) { cell_items_[fill[c]++] = static_cast<int>(i); });
+}
+
+bool VesselField::cellOf(const Vec3& p, int* ix, int* iy, int* iz) const {
+  if (cell_start_.empty() || !bounds_.contains(p)) return false;
+  const Vec3 q = (p - bounds_.min()) / cell_;
+  *ix = std::min(static_cast<int>(q.x()), dims_[0] - 1);
+  *iy = std::min(static_cast<int>(q.y()), dims_[1] - 1);
+  *iz = std::min(static_cast<int>(q.z()), dims_[2] - 1);
+  return true;
+}
+
+int VesselField::primitivesNear(const Vec3& p) const {
+  int x, y, z;
+  if (!cellOf(p, &x, &y, &z)) return 0;
+  const long c = cellIndex(x, y, z);
+  return cell_start_[c + 1] - cell_start_[c];
+}
+
+FieldSample VesselField::evaluate(const Vec3& p, double device_radius,
+                                  const MotionSnapshot& motion) const {
+  FieldSample out;
+  int x, y, z;
+  if (cellOf(p, &x, &y, &z)) {
+    const long c = cellIndex(x, y, z);
+    const int ns = static_cast<int>(segments_.size());
+    for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+      const int id = cell_items_[k];
+      if (id < ns) {
+        const Segment& s = segments_[id];
+        const double R = (s.rho - device_radius) / alpha_;
+        if (R <= 0.0) continue;
+        addSegmentField(displaced(s.a, s.weights, 0, motion), displaced(s.b, s.weights, 1, motion),
+                        R, p, &out);
+      } else {
+        const Sphere& s = spheres_[id - ns];
+        const double R = (s.rho - device_radius) / alpha_;
+        if (R <= 0.0) continue;
+        addSphereField(displaced(s.c, s.weights, 0, motion), R, sphere_weight_, p, &out);
+      }
+    }
+  }
+  out.value -= iso_;
+  return out;
+}
+
+double VesselField::hessianBound(const Vec3& p0, const Vec3& p1, double device_radius) const {
+  if (cell_start_.empty()) return 0.0;
+  int lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) {
+    const double a = (std::min(p0[k], p1[k]) - bounds_.min()[k]) / cell_;
+    const double b = (std::max(p0[k], p1[k]) - bounds_.min()[k]) / cell_;
+    lo[k] = std::clamp(static_cast<int>(std::floor(a)), 0, dims_[k] - 1);
+    hi[k] = std::clamp(static_cast<int>(std::floor(b)), 0, dims_[k] - 1);
+  }
+  const int ns = static_cast<int>(segments_.size());
+  double bound = 0.0;
+  for (int z = lo[2]; z <= hi[2]; ++z)
+    for (int y = lo[1]; y <= hi[1]; ++y)
+      for (int x = lo[0]; x <= hi[0]; ++x) {
+        const long c = cellIndex(x, y, z);
+        double sum = 0.0;
+        for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+          const int id = cell_items_[k];
+          const double rho = id < ns ? segments_[id].rho : spheres_[id - ns].rho;
+          const double R = (rho - device_radius) / alpha_;
+          if (R <= 0.0) continue;
+          sum += id < ns ? segmentHessianBound(R) : sphereHessianBound(R, sphere_weight_);
+        }
+        bound = std::max(bound, sum);
+      }
+  return bound;
+}
+
+}  // namespace evsim
