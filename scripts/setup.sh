@@ -19,6 +19,8 @@ packages=(
   ros-visualization-msgs libvisualization-msgs-dev
   ros-std-srvs libstd-srvs-dev
   libtf2-ros-dev libtf2-dev libtf2-msgs-dev ros-tf2-msgs
+  # plots and pictures
+  python3-matplotlib python3-numpy
 )
 
 missing=()

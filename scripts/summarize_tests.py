@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Counts test cases in JUnit XML files (gtest, rostest) under a folder.
 
 Prints failing cases by name and a closing line "N passed, N failed" (with

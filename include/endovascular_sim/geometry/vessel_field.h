@@ -67,6 +67,10 @@ class VesselField {
   double cellSize() const { return cell_; }
   /// Primitives listed in the grid cell of p (diagnostics, benchmarks).
   int primitivesNear(const Vec3& p) const;
+  /// Boxes of the grid cells that hold at least one primitive.
+  std::vector<Eigen::AlignedBox3d> occupiedCells() const;
+  /// Smallest vessel radius [m] (0 without vessels).
+  double minRadius() const;
 
  private:
   struct Segment {

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "endovascular_sim/geometry/network_generator.h"
+#include "endovascular_sim/geometry/vessel_field.h"
 #include "endovascular_sim/mechanics/device_model.h"
 #include "endovascular_sim/mechanics/introducer.h"
 
@@ -24,6 +26,18 @@ struct ScriptedCommand {
   DriveCommand command;
 };
 
+/// The vessels of a scene (none: free space).
+struct VesselSpec {
+  bool present{false};
+  std::string centerline_file;  // resolved SWC path
+  double units{1e-3};           // [m] per SWC unit without a header
+  VesselFieldOptions field;     // blend alpha
+  bool grow_network{false};
+  NetworkOptions network;
+  std::vector<AneurysmSpec> aneurysms;
+  std::vector<MotionRegion> motion;  // used with effect 'vessel_motion'
+};
+
 struct SceneSpec {
   std::string file;
   std::string name;
@@ -31,9 +45,15 @@ struct SceneSpec {
   double time_step{1e-3};            // [s]
   std::vector<std::string> effects;  // names, validated
   Vec3 gravity{0.0, 0.0, -9.81};     // [m/s^2], used with effect 'gravity'
+  VesselSpec vessels;
   std::vector<DevicePlacementSpec> devices;
   std::vector<ScriptedCommand> script;  // sorted by time
 };
+
+/// Builds the centreline (with its generated network) and the field of a
+/// scene's vessels; `with_motion` adds the motion regions.
+Centerline buildCenterline(const VesselSpec& spec);
+VesselField buildVesselField(const VesselSpec& spec, bool with_motion);
 
 /// Effects a scene may name.
 const std::vector<std::string>& knownEffects();

@@ -8,6 +8,7 @@
 // (Collision detection and contact resolution join in later stages.)
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,7 @@ namespace evsim {
 /// Effects switched on by the scene. An effect that is off costs nothing.
 struct EffectSet {
   bool gravity{false};
+  bool vessel_motion{false};
 };
 
 struct SceneModel {
@@ -29,7 +31,8 @@ struct SceneModel {
   std::string file;
   double time_step{1e-3};  // [s]
   EffectSet effects;
-  Vec3 gravity{0.0, 0.0, 0.0};  // [m/s^2]; zero unless the effect is on
+  Vec3 gravity{0.0, 0.0, 0.0};                 // [m/s^2]; zero unless the effect is on
+  std::shared_ptr<const VesselField> vessels;  // null: free space
   std::vector<DeviceModel> devices;
   std::vector<Introducer> introducers;
   std::vector<double> initial_inserted_length;  // [m]

@@ -137,6 +137,27 @@ int VesselField::primitivesNear(const Vec3& p) const {
   return cell_start_[c + 1] - cell_start_[c];
 }
 
+std::vector<Eigen::AlignedBox3d> VesselField::occupiedCells() const {
+  std::vector<Eigen::AlignedBox3d> cells;
+  for (int z = 0; z < dims_[2]; ++z)
+    for (int y = 0; y < dims_[1]; ++y)
+      for (int x = 0; x < dims_[0]; ++x) {
+        const long c = cellIndex(x, y, z);
+        if (cell_start_[c + 1] == cell_start_[c]) continue;
+        // Both corners from the integer index: neighbours share the bits.
+        cells.emplace_back(bounds_.min() + cell_ * Vec3(x, y, z),
+                           bounds_.min() + cell_ * Vec3(x + 1, y + 1, z + 1));
+      }
+  return cells;
+}
+
+double VesselField::minRadius() const {
+  double r = segments_.empty() && spheres_.empty() ? 0.0 : 1e9;
+  for (const auto& s : segments_) r = std::min(r, s.rho);
+  for (const auto& s : spheres_) r = std::min(r, s.rho);
+  return r;
+}
+
 FieldSample VesselField::evaluate(const Vec3& p, double device_radius,
                                   const MotionSnapshot& motion) const {
   FieldSample out;

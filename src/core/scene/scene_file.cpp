@@ -102,6 +102,80 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
   return d;
 }
 
+VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path& scene_dir) {
+  VesselSpec v;
+  v.present = true;
+  if (!n.IsMap()) r.fail(n, "vessels", "must be a map");
+  const fs::path file =
+      r.text(r.required(n, "centerline", "vessels.centerline"), "vessels.centerline");
+  v.centerline_file = (file.is_absolute() ? file : scene_dir / file).lexically_normal().string();
+  if (!fs::exists(v.centerline_file))
+    r.fail(n["centerline"], "vessels.centerline", "no centreline file " + v.centerline_file);
+  if (n["units"]) {
+    const std::string u = r.text(n["units"], "vessels.units");
+    if (u == "m")
+      v.units = 1.0;
+    else if (u == "mm")
+      v.units = 1e-3;
+    else if (u == "um")
+      v.units = 1e-6;
+    else
+      r.fail(n["units"], "vessels.units", "must be m, mm or um");
+  }
+  v.field.alpha = r.number(n, "blend", "vessels.", 0.6);
+  if (!(v.field.alpha >= 0.3 && v.field.alpha <= 0.95))
+    r.fail(n["blend"], "vessels.blend", "must lie in [0.3, 0.95]");
+  if (n["network"]) {
+    const YAML::Node g = n["network"];
+    v.grow_network = true;
+    const double seed =
+        r.number(r.required(g, "seed", "vessels.network.seed"), "vessels.network.seed");
+    const double count =
+        r.number(r.required(g, "vessels", "vessels.network.vessels"), "vessels.network.vessels");
+    if (seed < 0 || seed != std::floor(seed))
+      r.fail(g["seed"], "vessels.network.seed", "must be a whole number >= 0");
+    if (count < 0 || count > 100000 || count != std::floor(count))
+      r.fail(g["vessels"], "vessels.network.vessels", "must be a whole number in [0, 100000]");
+    v.network.seed = static_cast<uint64_t>(seed);
+    v.network.vessels = static_cast<int>(count);
+    v.network.min_radius = r.number(g, "min_radius", "vessels.network.", v.network.min_radius);
+    if (!(v.network.min_radius > 0.0))
+      r.fail(g["min_radius"], "vessels.network.min_radius", "must be positive");
+  }
+  if (n["aneurysms"]) {
+    const YAML::Node list = n["aneurysms"];
+    if (!list.IsSequence()) r.fail(list, "vessels.aneurysms", "must be a list");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const std::string p = "vessels.aneurysms[" + std::to_string(i) + "].";
+      AneurysmSpec a;
+      a.center = r.vector3(r.required(list[i], "center", p + "center"), p + "center");
+      a.radius = r.number(r.required(list[i], "radius", p + "radius"), p + "radius");
+      if (!(a.radius > 0.0)) r.fail(list[i]["radius"], p + "radius", "must be positive");
+      v.aneurysms.push_back(a);
+    }
+  }
+  if (n["motion"]) {
+    const YAML::Node list = n["motion"];
+    if (!list.IsSequence()) r.fail(list, "vessels.motion", "must be a list of regions");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const std::string p = "vessels.motion[" + std::to_string(i) + "].";
+      MotionRegion m;
+      m.center = r.vector3(r.required(list[i], "center", p + "center"), p + "center");
+      m.radius = r.number(r.required(list[i], "radius", p + "radius"), p + "radius");
+      m.amplitude = r.vector3(r.required(list[i], "amplitude", p + "amplitude"), p + "amplitude");
+      m.frequency = r.number(r.required(list[i], "frequency", p + "frequency"), p + "frequency");
+      m.phase = r.number(list[i], "phase", p, 0.0);
+      if (!(m.radius > 0.0)) r.fail(list[i]["radius"], p + "radius", "must be positive");
+      if (!(m.frequency > 0.0 && m.frequency <= 10.0))
+        r.fail(list[i]["frequency"], p + "frequency", "must lie in (0, 10] Hz");
+      if (m.amplitude.norm() > 0.03)
+        r.fail(list[i]["amplitude"], p + "amplitude", "is above 30 mm");
+      v.motion.push_back(m);
+    }
+  }
+  return v;
+}
+
 ScriptedCommand readCommand(const YamlReader& r, const YAML::Node& n, int index,
                             const SceneSpec& scene) {
   const std::string p = "script[" + std::to_string(index) + "].";
@@ -131,7 +205,7 @@ ScriptedCommand readCommand(const YamlReader& r, const YAML::Node& n, int index,
 }  // namespace
 
 const std::vector<std::string>& knownEffects() {
-  static const std::vector<std::string> effects = {"gravity"};
+  static const std::vector<std::string> effects = {"gravity", "vessel_motion"};
   return effects;
 }
 
@@ -170,12 +244,18 @@ SceneSpec loadSceneFile(const std::string& path) {
   }
   if (root["gravity"]) s.gravity = r.vector3(root["gravity"], "gravity");
 
+  const fs::path scene_dir = fs::path(path).parent_path();
+  if (root["vessels"]) s.vessels = readVessels(r, root["vessels"], scene_dir);
+  const bool moves =
+      std::find(s.effects.begin(), s.effects.end(), "vessel_motion") != s.effects.end();
+  if (moves && s.vessels.motion.empty())
+    r.fail(root["effects"], "effects", "'vessel_motion' needs vessels.motion regions");
+
   const YAML::Node devices = r.required(root, "devices", "devices");
   if (!devices.IsSequence() || devices.size() == 0)
     r.fail(devices, "devices", "must be a non-empty list");
-  const fs::path dir = fs::path(path).parent_path();
   for (size_t i = 0; i < devices.size(); ++i) {
-    s.devices.push_back(readDevice(r, devices[i], static_cast<int>(i), dir));
+    s.devices.push_back(readDevice(r, devices[i], static_cast<int>(i), scene_dir));
     for (size_t j = 0; j < i; ++j)
       if (s.devices[j].device.name == s.devices[i].device.name)
         r.fail(devices[i], "devices[" + std::to_string(i) + "].name",
@@ -192,6 +272,17 @@ SceneSpec loadSceneFile(const std::string& path) {
         [](const ScriptedCommand& a, const ScriptedCommand& b) { return a.time < b.time; });
   }
   return s;
+}
+
+Centerline buildCenterline(const VesselSpec& spec) {
+  Centerline c = loadCenterlineFile(spec.centerline_file, spec.units);
+  if (spec.grow_network) growNetwork(spec.network, &c);
+  return c;
+}
+
+VesselField buildVesselField(const VesselSpec& spec, bool with_motion) {
+  return VesselField(buildCenterline(spec), spec.aneurysms,
+                     with_motion ? spec.motion : std::vector<MotionRegion>{}, spec.field);
 }
 
 std::string configDirectory() {

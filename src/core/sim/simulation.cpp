@@ -16,6 +16,26 @@ void applyScript(const SceneModel& model, SimData* data) {
   }
 }
 
+/// Detection without response (until contacts are resolved): device nodes
+/// past the collision surface, and the deepest, -g / |grad g| [m].
+void measurePenetration(const SceneModel& model, const std::vector<DeviceState>& devices, double t,
+                        StepStats* stats) {
+  const MotionSnapshot motion =
+      model.effects.vessel_motion ? model.vessels->motionAt(t) : MotionSnapshot{};
+  for (size_t i = 0; i < devices.size(); ++i) {
+    const DeviceModel& dm = model.devices[i];
+    const int first = lastHeldNode(dm, devices[i].inserted_length) + 1;
+    for (int n = first; n < dm.num_nodes; ++n) {
+      const FieldSample g =
+          model.vessels->evaluate(devices[i].position[n], dm.node_radius[n], motion);
+      if (g.value >= 0.0) continue;
+      ++stats->contacts;
+      const double depth = g.gradient.norm() > 0 ? -g.value / g.gradient.norm() : 0.0;
+      stats->max_penetration_m = std::max(stats->max_penetration_m, depth);
+    }
+  }
+}
+
 }  // namespace
 
 SceneModel buildSceneModel(const SceneSpec& spec) {
@@ -24,8 +44,14 @@ SceneModel buildSceneModel(const SceneSpec& spec) {
   m.file = spec.file;
   m.time_step = spec.time_step;
   for (const auto& e : spec.effects)
-    if (e == "gravity") m.effects.gravity = true;
+    if (e == "gravity")
+      m.effects.gravity = true;
+    else if (e == "vessel_motion")
+      m.effects.vessel_motion = true;
   if (m.effects.gravity) m.gravity = spec.gravity;
+  if (spec.vessels.present)
+    m.vessels = std::make_shared<const VesselField>(
+        buildVesselField(spec.vessels, m.effects.vessel_motion));
   for (const auto& d : spec.devices) {
     m.devices.push_back(buildDeviceModel(d.device));
     m.introducers.push_back(d.introducer);
@@ -90,6 +116,7 @@ StepStatus step(const SceneModel& model, SimData* data) {
 
   for (size_t i = 0; i < model.devices.size(); ++i)
     commitMotion(data->workspaces[i].dq, dt, &next[i]);
+  if (model.vessels) measurePenetration(model, next, data->time + dt, &data->stats);
   data->devices.swap(next);
   data->time += dt;
   ++data->step;
