@@ -21,6 +21,8 @@ packages=(
   libtf2-ros-dev libtf2-dev libtf2-msgs-dev ros-tf2-msgs
   # plots and pictures
   python3-matplotlib python3-numpy
+  # independent LCP oracle for the contact tests
+  libsiconos-numerics-dev
 )
 
 missing=()
