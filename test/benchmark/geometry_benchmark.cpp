@@ -14,9 +14,7 @@
 namespace evsim {
 namespace {
 
-Centerline carotid() {
-  return loadCenterlineFile(configDirectory() + "/vessels/carotid.swc");
-}
+Centerline carotid() { return loadCenterlineFile(configDirectory() + "/vessels/carotid.swc"); }
 
 const VesselField& networkOf(int vessels) {
   static std::map<int, VesselField> cache;
@@ -57,7 +55,12 @@ void BM_FieldAndGradient(benchmark::State& st) {
   st.counters["segments"] = f.numSegments();
   st.counters["primitives_in_cell"] = f.primitivesNear(pts[0]);
 }
-BENCHMARK(BM_FieldAndGradient)->Arg(10)->Arg(100)->Arg(1000)->Arg(4000)->Arg(16000)
+BENCHMARK(BM_FieldAndGradient)
+    ->Arg(10)
+    ->Arg(100)
+    ->Arg(1000)
+    ->Arg(4000)
+    ->Arg(16000)
     ->Unit(benchmark::kNanosecond);
 
 void BM_FirstRootQuery(benchmark::State& st) {

@@ -1,0 +1,58 @@
+// Linear complementarity problems of the contact space:
+//   find z >= 0 with w = W z + q >= 0 and z . w = 0,
+// W = H A^-1 H^T the Delassus operator (symmetric positive semi-definite),
+// z the contact forces lambda [N], w the gaps after correction [m].
+//
+// Solvers behind one interface:
+//  - kStatusMethod (the paper's): solve W_aa z_a = -q_a on the active set,
+//    drop the contact with the most negative force, re-solve, until z >= 0;
+//    then activate the most violated inactive contact (w < -tolerance) and
+//    repeat. The active set's Cholesky factor is updated by one row or
+//    column per change (O(c^2)), never refactorised. Rank-deficient W
+//    (redundant contacts) is handled by a stated regularisation: W + eps I,
+//    eps = regularization * max(diag W), which makes it a P-matrix. Never
+//    cycles: after 3c pivots it switches from the most-negative rule to
+//    Murty's least-index rule, which terminates for P-matrices.
+//  - kPgs: projected Gauss-Seidel (the method the paper improves on).
+//  - kLemke: Lemke's complementary pivoting with a covering vector of ones
+//    (exact up to round-off; the final basis is re-solved to polish z).
+#pragma once
+
+#include <string>
+
+#include "endovascular_sim/core/types.h"
+
+namespace evsim {
+
+enum class LcpSolver { kStatusMethod, kPgs, kLemke };
+
+/// "status", "pgs", "lemke" (throws std::invalid_argument otherwise).
+LcpSolver lcpSolverFromName(const std::string& name);
+const char* lcpSolverName(LcpSolver solver);
+
+struct LcpOptions {
+  LcpSolver solver{LcpSolver::kStatusMethod};
+  double tolerance{1e-12};       // on w >= -tolerance and PGS convergence [m]
+  int max_iterations{0};         // pivots or sweeps; 0: 20 c + 100 (pivoting), 1000 (PGS)
+  double regularization{1e-12};  // status method: eps / max(diag W) [-]
+};
+
+enum class LcpStatus { kSolved, kIterationLimit, kFailed };
+
+struct LcpStats {
+  int iterations{0};          // pivots (status, Lemke) or sweeps (PGS)
+  int deactivations{0};       // status method: contacts dropped for a negative force
+  int activations{0};         // status method: contacts added for a negative gap
+  bool switched_rule{false};  // status method: Murty's rule was needed
+  double residual{0.0};       // natural-map residual |z - max(0, z - w)| / |q|
+};
+
+/// Solves the LCP (W: c x c, q: c). z is resized; on kFailed it is zero.
+LcpStatus solveLcp(const MatX& W, const VecX& q, const LcpOptions& options, VecX* z,
+                   LcpStats* stats = nullptr);
+
+/// |z - max(0, z - w)| / |q| with w = W z + q (Siconos' LCP error measure);
+/// 0 for q = 0 and z = 0.
+double lcpResidual(const MatX& W, const VecX& q, const VecX& z);
+
+}  // namespace evsim

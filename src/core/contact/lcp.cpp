@@ -1,0 +1,263 @@
+#include "endovascular_sim/contact/lcp.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+namespace evsim {
+namespace {
+
+/// Cholesky factor L (lower) of W_aa + eps I for an ordered active set,
+/// updated by appending or removing one index.
+class ActiveCholesky {
+ public:
+  ActiveCholesky(const MatX& W, double eps) : W_(W), eps_(eps), L_(W.rows(), W.rows()) {}
+
+  int size() const { return static_cast<int>(set_.size()); }
+  const std::vector<int>& set() const { return set_; }
+
+  /// Appends index i; false when the pivot is not positive (then unchanged).
+  bool add(int i) {
+    const int k = size();
+    Eigen::VectorXd row(k);
+    for (int j = 0; j < k; ++j) row(j) = W_(set_[j], i);
+    if (k) L_.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(row);
+    const double d2 = W_(i, i) + eps_ - row.squaredNorm();
+    if (!(d2 > 0.0)) return false;
+    L_.row(k).head(k) = row.transpose();
+    L_(k, k) = std::sqrt(d2);
+    set_.push_back(i);
+    return true;
+  }
+
+  /// Removes the entry at position p; Givens rotations restore L.
+  void removeAt(int p) {
+    const int k = size();
+    for (int r = p; r + 1 < k; ++r) L_.row(r).head(k) = L_.row(r + 1).head(k);
+    // Rows p..k-2 now have a super-diagonal entry in column c+1: rotate
+    // columns (c, c+1) to zero it.
+    for (int c = p; c + 1 < k; ++c) {
+      const double a = L_(c, c), b = L_(c, c + 1);
+      const double r = std::hypot(a, b);
+      const double cs = a / r, sn = b / r;
+      for (int rr = c; rr + 1 < k; ++rr) {
+        const double x = L_(rr, c), y = L_(rr, c + 1);
+        L_(rr, c) = cs * x + sn * y;
+        L_(rr, c + 1) = -sn * x + cs * y;
+      }
+    }
+    set_.erase(set_.begin() + p);
+  }
+
+  /// Solves (W_aa + eps I) x = b in place (b ordered like set()).
+  void solve(Eigen::VectorXd* b) const {
+    const int k = size();
+    L_.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(*b);
+    L_.topLeftCorner(k, k).transpose().triangularView<Eigen::Upper>().solveInPlace(*b);
+  }
+
+ private:
+  const MatX& W_;
+  double eps_;
+  MatX L_;
+  std::vector<int> set_;
+};
+
+LcpStatus statusMethod(const MatX& W, const VecX& q, const LcpOptions& o, VecX* z, LcpStats* st) {
+  const int c = static_cast<int>(q.size());
+  const double eps = o.regularization * std::max(W.diagonal().maxCoeff(), 0.0);
+  const int limit = o.max_iterations > 0 ? o.max_iterations : 20 * c + 100;
+  ActiveCholesky chol(W, eps);
+  std::vector<char> active(c, 0);
+  // Start from the contacts violated by the free motion, most violated first.
+  std::vector<int> order;
+  for (int i = 0; i < c; ++i)
+    if (q(i) < -o.tolerance) order.push_back(i);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return q(a) < q(b); });
+  for (int i : order)
+    if (chol.add(i)) active[i] = 1;
+
+  z->setZero(c);
+  Eigen::VectorXd za;
+  for (int it = 0; it < limit; ++it) {
+    st->iterations = it;
+    const bool murty = it >= 3 * c;
+    st->switched_rule |= murty;
+    const int k = chol.size();
+    za.resize(k);
+    for (int j = 0; j < k; ++j) za(j) = -q(chol.set()[j]);
+    chol.solve(&za);
+    // I) Deactivation: the most negative force (or the lowest index, Murty).
+    int drop = -1;
+    for (int j = 0; j < k; ++j)
+      if (za(j) < 0.0 &&
+          (drop < 0 || (murty ? chol.set()[j] < chol.set()[drop] : za(j) < za(drop))))
+        drop = j;
+    if (drop >= 0) {
+      active[chol.set()[drop]] = 0;
+      chol.removeAt(drop);
+      ++st->deactivations;
+      continue;
+    }
+    z->setZero(c);
+    for (int j = 0; j < k; ++j) (*z)(chol.set()[j]) = za(j);
+    // II) Activation: the most violated inactive contact.
+    const VecX w = W * *z + q;
+    int add = -1;
+    for (int i = 0; i < c; ++i)
+      if (!active[i] && w(i) < -o.tolerance && (add < 0 || (murty ? i < add : w(i) < w(add))))
+        add = i;
+    if (add < 0) return LcpStatus::kSolved;
+    if (!chol.add(add)) return LcpStatus::kFailed;
+    active[add] = 1;
+    ++st->activations;
+  }
+  st->iterations = limit;
+  return LcpStatus::kIterationLimit;
+}
+
+LcpStatus pgs(const MatX& W, const VecX& q, const LcpOptions& o, VecX* z, LcpStats* st) {
+  const int c = static_cast<int>(q.size());
+  const int limit = o.max_iterations > 0 ? o.max_iterations : 1000;
+  z->setZero(c);
+  for (int it = 1; it <= limit; ++it) {
+    double change = 0.0;
+    for (int i = 0; i < c; ++i) {
+      if (W(i, i) <= 0.0) continue;
+      const double wi = W.row(i).dot(*z) + q(i);
+      const double next = std::max(0.0, (*z)(i)-wi / W(i, i));
+      change = std::max(change, std::abs(next - (*z)(i)) * W(i, i));
+      (*z)(i) = next;
+    }
+    st->iterations = it;
+    if (change <= o.tolerance) return LcpStatus::kSolved;
+  }
+  return LcpStatus::kIterationLimit;
+}
+
+/// Lemke's method on the tableau [I, -W, -d | q] (w - W z - d z0 = q).
+LcpStatus lemke(const MatX& W, const VecX& q, const LcpOptions& o, VecX* z, LcpStats* st) {
+  const int c = static_cast<int>(q.size());
+  z->setZero(c);
+  if (c == 0 || q.minCoeff() >= 0.0) return LcpStatus::kSolved;
+  const int limit = o.max_iterations > 0 ? o.max_iterations : 20 * c + 100;
+  // Columns: 0..c-1 w, c..2c-1 z, 2c z0; last column the right-hand side.
+  MatX T(c, 2 * c + 2);
+  T.setZero();
+  T.leftCols(c).setIdentity();
+  T.middleCols(c, c) = -W;
+  T.col(2 * c).setConstant(-1.0);
+  T.col(2 * c + 1) = q;
+  std::vector<int> basis(c);
+  for (int i = 0; i < c; ++i) basis[i] = i;
+  auto pivot = [&](int row, int col) {
+    T.row(row) /= T(row, col);
+    for (int r = 0; r < c; ++r)
+      if (r != row && T(r, col) != 0.0) T.row(r) -= T(r, col) * T.row(row);
+    basis[row] = col;
+  };
+  int row;
+  q.minCoeff(&row);
+  int leaving = basis[row];
+  pivot(row, 2 * c);  // z0 enters
+  for (int it = 1; it <= limit; ++it) {
+    st->iterations = it;
+    const int entering = leaving < c ? leaving + c : leaving - c;  // complement
+    int best = -1;
+    double ratio = 0.0;
+    for (int r = 0; r < c; ++r) {
+      if (T(r, entering) <= 1e-12) continue;
+      const double t = T(r, 2 * c + 1) / T(r, entering);
+      // Ties: prefer z0 leaving, then the smallest basis index.
+      if (best < 0 || t < ratio - 1e-14 ||
+          (std::abs(t - ratio) <= 1e-14 &&
+           (basis[r] == 2 * c || (basis[best] != 2 * c && basis[r] < basis[best])))) {
+        best = r;
+        ratio = t;
+      }
+    }
+    if (best < 0) return LcpStatus::kFailed;  // ray termination
+    leaving = basis[best];
+    pivot(best, entering);
+    if (leaving == 2 * c) {
+      for (int r = 0; r < c; ++r)
+        if (basis[r] >= c && basis[r] < 2 * c) (*z)(basis[r] - c) = std::max(0.0, T(r, 2 * c + 1));
+      // Polish: re-solve the complementary basis exactly.
+      std::vector<int> a;
+      for (int i = 0; i < c; ++i)
+        if ((*z)(i) > 0.0) a.push_back(i);
+      if (!a.empty()) {
+        MatX Waa(a.size(), a.size());
+        VecX qa(a.size());
+        for (size_t i = 0; i < a.size(); ++i) {
+          qa(i) = -q(a[i]);
+          for (size_t j = 0; j < a.size(); ++j) Waa(i, j) = W(a[i], a[j]);
+        }
+        const VecX za = Waa.fullPivLu().solve(qa);
+        VecX polished = VecX::Zero(c);
+        for (size_t i = 0; i < a.size(); ++i) polished(a[i]) = std::max(0.0, za(i));
+        if (za.allFinite() && lcpResidual(W, q, polished) < lcpResidual(W, q, *z)) *z = polished;
+      }
+      return LcpStatus::kSolved;
+    }
+  }
+  return LcpStatus::kIterationLimit;
+}
+
+}  // namespace
+
+LcpSolver lcpSolverFromName(const std::string& name) {
+  if (name == "status") return LcpSolver::kStatusMethod;
+  if (name == "pgs") return LcpSolver::kPgs;
+  if (name == "lemke") return LcpSolver::kLemke;
+  throw std::invalid_argument("unknown LCP solver '" + name + "' (status, pgs, lemke)");
+}
+
+const char* lcpSolverName(LcpSolver solver) {
+  switch (solver) {
+    case LcpSolver::kStatusMethod:
+      return "status";
+    case LcpSolver::kPgs:
+      return "pgs";
+    default:
+      return "lemke";
+  }
+}
+
+double lcpResidual(const MatX& W, const VecX& q, const VecX& z) {
+  if (q.size() == 0) return 0.0;
+  const VecX w = W * z + q;
+  const VecX r = z - (z - w).cwiseMax(0.0);
+  const double nq = q.norm();
+  return nq > 0.0 ? r.norm() / nq : r.norm();
+}
+
+LcpStatus solveLcp(const MatX& W, const VecX& q, const LcpOptions& options, VecX* z,
+                   LcpStats* stats) {
+  LcpStats local;
+  LcpStats* st = stats ? stats : &local;
+  *st = LcpStats{};
+  LcpStatus status;
+  switch (options.solver) {
+    case LcpSolver::kStatusMethod:
+      status = statusMethod(W, q, options, z, st);
+      break;
+    case LcpSolver::kPgs:
+      status = pgs(W, q, options, z, st);
+      break;
+    default:
+      status = lemke(W, q, options, z, st);
+      break;
+  }
+  if (status == LcpStatus::kFailed || !z->allFinite()) {
+    z->setZero(q.size());
+    status = LcpStatus::kFailed;
+  }
+  st->residual = lcpResidual(W, q, *z);
+  return status;
+}
+
+}  // namespace evsim

@@ -1,0 +1,133 @@
+// LCP solvers against Siconos numerics (the independent oracle).
+#include "endovascular_sim/contact/lcp.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "siconos_oracle.h"
+
+namespace evsim {
+namespace {
+
+struct Lcp {
+  MatX W;
+  VecX q;
+};
+
+/// W = B B^T with B c x rank (rank < c: rank-deficient, redundant contacts),
+/// plus a diagonal shift for definite cases; q with mostly negative entries.
+Lcp randomLcp(int c, int rank, double shift, std::mt19937* rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  MatX B(c, rank);
+  for (int i = 0; i < B.size(); ++i) B.data()[i] = n(*rng);
+  Lcp l{B * B.transpose() / rank + shift * MatX::Identity(c, c), VecX(c)};
+  for (int i = 0; i < c; ++i) l.q(i) = n(*rng) - 0.5;
+  return l;
+}
+
+/// A contact LCP as the step makes it, with more contacts than degrees of
+/// freedom: W = B B^T (B = H L^-T, c x dofs) and q = B (u_f - u*) + s, s >= 0:
+/// the constraints admit the configuration u* (a feasible QP), so the LCP
+/// is solvable although W is singular.
+Lcp redundantContactLcp(int c, int dofs, std::mt19937* rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  MatX B(c, dofs);
+  for (int i = 0; i < B.size(); ++i) B.data()[i] = n(*rng);
+  VecX du(dofs), s(c);
+  for (int i = 0; i < dofs; ++i) du(i) = n(*rng);
+  for (int i = 0; i < c; ++i) s(i) = u(*rng) < 0.5 ? 0.0 : u(*rng);
+  return {B * B.transpose(), B * du + s};
+}
+
+TEST(Lcp, SmallAnalyticProblem) {
+  //  w1 = 2 z1 + z2 - 1,  w2 = z1 + 2 z2 + 1  ->  z = (1/2, 0), w = (0, 3/2)
+  MatX W(2, 2);
+  W << 2, 1, 1, 2;
+  const VecX q = (VecX(2) << -1, 1).finished();
+  for (auto s : {LcpSolver::kStatusMethod, LcpSolver::kLemke, LcpSolver::kPgs}) {
+    LcpOptions o;
+    o.solver = s;
+    VecX z;
+    ASSERT_EQ(solveLcp(W, q, o, &z), LcpStatus::kSolved) << lcpSolverName(s);
+    EXPECT_NEAR(z(0), 0.5, 1e-10) << lcpSolverName(s);
+    EXPECT_NEAR(z(1), 0.0, 1e-10) << lcpSolverName(s);
+  }
+}
+
+class AgainstSiconos : public ::testing::TestWithParam<int> {};
+
+TEST_P(AgainstSiconos, PositiveDefiniteSolutionsAgree) {
+  const int c = GetParam();
+  std::mt19937 rng(100 + c);
+  const Lcp l = randomLcp(c, c, 0.05, &rng);
+  VecX ref;
+  ASSERT_EQ(test::siconosLcp(l.W, l.q, SICONOS_LCP_LEMKE, 1e-14, &ref), 0);
+  for (auto s : {LcpSolver::kStatusMethod, LcpSolver::kLemke}) {
+    LcpOptions o;
+    o.solver = s;
+    VecX z;
+    LcpStats st;
+    ASSERT_EQ(solveLcp(l.W, l.q, o, &z, &st), LcpStatus::kSolved) << lcpSolverName(s);
+    EXPECT_LE(st.residual, 1e-10) << lcpSolverName(s) << " c=" << c;
+    EXPECT_LT((z - ref).norm(), 1e-8 * std::max(1.0, ref.norm())) << lcpSolverName(s) << " c=" << c;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Sizes, AgainstSiconos, ::testing::Values(1, 2, 5, 10, 40, 100, 300));
+
+class RankDeficientAgainstSiconos : public ::testing::TestWithParam<int> {};
+
+TEST_P(RankDeficientAgainstSiconos, GapsAgree) {
+  const int c = GetParam();
+  std::mt19937 rng(200 + c);
+  const Lcp l = redundantContactLcp(c, std::max(1, c / 2), &rng);  // half the contacts redundant
+  VecX ref;
+  ASSERT_EQ(test::siconosLcp(l.W, l.q, SICONOS_LCP_LEMKE, 1e-14, &ref), 0);
+  const VecX w_ref = l.W * ref + l.q;
+  for (auto s : {LcpSolver::kStatusMethod, LcpSolver::kLemke}) {
+    LcpOptions o;
+    o.solver = s;
+    VecX z;
+    LcpStats st;
+    ASSERT_EQ(solveLcp(l.W, l.q, o, &z, &st), LcpStatus::kSolved) << lcpSolverName(s);
+    EXPECT_LE(st.residual, 1e-10) << lcpSolverName(s) << " c=" << c;
+    // z is not unique, w is.
+    EXPECT_LT((l.W * z + l.q - w_ref).norm(), 1e-8 * std::max(1.0, l.q.norm()))
+        << lcpSolverName(s) << " c=" << c;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Sizes, RankDeficientAgainstSiconos,
+                         ::testing::Values(2, 5, 10, 40, 100, 300));
+
+TEST(Lcp, PgsConvergesToTheSameSolutionSlowly) {
+  std::mt19937 rng(5);
+  const Lcp l = randomLcp(40, 40, 0.5, &rng);
+  VecX exact, z;
+  ASSERT_EQ(solveLcp(l.W, l.q, {LcpSolver::kLemke}, &exact), LcpStatus::kSolved);
+  LcpOptions few{LcpSolver::kPgs, 1e-14, 5, 0.0}, many{LcpSolver::kPgs, 1e-14, 5000, 0.0};
+  LcpStats st_few, st_many;
+  solveLcp(l.W, l.q, few, &z, &st_few);
+  const double err_few = (z - exact).norm();
+  solveLcp(l.W, l.q, many, &z, &st_many);
+  EXPECT_LT((z - exact).norm(), 1e-8 * exact.norm());
+  EXPECT_GT(err_few, 100 * (z - exact).norm());  // accuracy costs iterations
+}
+
+TEST(Lcp, StatusMethodNeverCyclesOnDegenerateProblems) {
+  // Many identical contacts (the same wall seen by several points): W has
+  // rank 1 and ties everywhere.
+  const int c = 50;
+  MatX W = MatX::Ones(c, c);
+  VecX q = VecX::Constant(c, -1.0);
+  VecX z;
+  LcpStats st;
+  EXPECT_EQ(solveLcp(W, q, {LcpSolver::kStatusMethod}, &z, &st), LcpStatus::kSolved);
+  EXPECT_LE(st.residual, 1e-10);
+  EXPECT_NEAR(z.sum(), 1.0, 1e-9);  // the total force is determined
+}
+
+}  // namespace
+}  // namespace evsim
