@@ -20,8 +20,12 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
   o << "{\"step\":" << data.step << ",\"t\":" << num(data.time) << ",\"wall_ms\":" << num(s.wall_ms)
     << ",\"assembly_ms\":" << num(s.assembly_ms)
     << ",\"factorization_ms\":" << num(s.factorization_ms) << ",\"solve_ms\":" << num(s.solve_ms)
-    << ",\"contacts\":" << s.contacts << ",\"max_penetration_m\":" << num(s.max_penetration_m)
-    << ",\"devices\":[";
+    << ",\"detection_ms\":" << num(s.detection_ms) << ",\"delassus_ms\":" << num(s.delassus_ms)
+    << ",\"lcp_ms\":" << num(s.lcp_ms) << ",\"correction_ms\":" << num(s.correction_ms)
+    << ",\"contacts\":" << s.contacts << ",\"active_contacts\":" << s.active_contacts
+    << ",\"activation_loops\":" << s.activation_loops << ",\"lcp_iterations\":" << s.lcp_iterations
+    << ",\"lcp_residual\":" << num(s.lcp_residual) << ",\"subdivisions\":" << s.subdivisions
+    << ",\"max_penetration_m\":" << num(s.max_penetration_m) << ",\"devices\":[";
   for (size_t i = 0; i < model.devices.size(); ++i) {
     const DeviceState& d = data.devices[i];
     const Vec3& tip = d.position.back();

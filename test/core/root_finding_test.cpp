@@ -5,6 +5,8 @@
 
 #include <random>
 
+#include "endovascular_sim/geometry/vessel_field.h"
+
 namespace evsim {
 namespace {
 

@@ -19,7 +19,7 @@
 #pragma once
 
 #include "endovascular_sim/core/types.h"
-#include "endovascular_sim/geometry/vessel_field.h"
+#include "endovascular_sim/geometry/implicit_surface.h"
 
 namespace evsim {
 
@@ -38,13 +38,13 @@ struct SurfacePoint {
   int iterations{0};
 };
 
-SurfacePoint firstRoot(const VesselField& field, const Vec3& p0, const Vec3& p1,
+SurfacePoint firstRoot(const ImplicitSurface& field, const Vec3& p0, const Vec3& p1,
                        double device_radius, const MotionSnapshot& motion = {},
                        const RootOptions& options = {});
 
 /// Surface point reached from x along the gradient direction at x, and its
 /// normal. hit is false when no surface lies within max_distance [m].
-SurfacePoint projectToSurface(const VesselField& field, const Vec3& x, double device_radius,
+SurfacePoint projectToSurface(const ImplicitSurface& field, const Vec3& x, double device_radius,
                               const MotionSnapshot& motion = {}, double max_distance = 0.01,
                               const RootOptions& options = {});
 

@@ -12,6 +12,7 @@
 
 #include "endovascular_sim/core/types.h"
 #include "endovascular_sim/geometry/centerline.h"
+#include "endovascular_sim/geometry/implicit_surface.h"
 #include "endovascular_sim/geometry/kernel.h"
 
 namespace evsim {
@@ -33,14 +34,11 @@ struct MotionRegion {
   double phase{0.0};             // [rad]
 };
 
-/// Displacement of every motion region at one time (empty: vessels at rest).
-using MotionSnapshot = std::vector<Vec3>;
-
 struct VesselFieldOptions {
   double alpha{0.6};  // iso radius / kernel width, in (0, 1): smaller blends more
 };
 
-class VesselField {
+class VesselField : public ImplicitSurface {
  public:
   VesselField() = default;
   VesselField(const Centerline& centerline, const std::vector<AneurysmSpec>& aneurysms,
@@ -48,13 +46,13 @@ class VesselField {
 
   /// g = f - T and grad f [1/m] at p for a device of radius r [m].
   FieldSample evaluate(const Vec3& p, double device_radius,
-                       const MotionSnapshot& motion = {}) const;
+                       const MotionSnapshot& motion = {}) const override;
 
   /// Upper bound of |Hessian of f| [1/m^2] over the axis-aligned box of the
   /// segment [p0, p1] (motion included).
-  double hessianBound(const Vec3& p0, const Vec3& p1, double device_radius) const;
+  double hessianBound(const Vec3& p0, const Vec3& p1, double device_radius) const override;
 
-  MotionSnapshot motionAt(double t) const;
+  MotionSnapshot motionAt(double t) const override;
   bool moves() const { return !motion_.empty(); }
   /// Motion periods [s] of the regions (tests).
   std::vector<double> motionPeriods() const;

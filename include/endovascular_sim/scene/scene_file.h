@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "endovascular_sim/contact/contact_solver.h"
 #include "endovascular_sim/geometry/network_generator.h"
 #include "endovascular_sim/geometry/vessel_field.h"
 #include "endovascular_sim/mechanics/device_model.h"
@@ -46,6 +47,7 @@ struct SceneSpec {
   std::vector<std::string> effects;  // names, validated
   Vec3 gravity{0.0, 0.0, -9.81};     // [m/s^2], used with effect 'gravity'
   VesselSpec vessels;
+  ContactOptions contact;
   std::vector<DevicePlacementSpec> devices;
   std::vector<ScriptedCommand> script;  // sorted by time
 };

@@ -2,16 +2,19 @@
 // workspace it steps, and step() — the pipeline of the paper:
 //
 //   apply commands     insertion / rotation targets -> held proximal nodes
+//   move vessels       only with the effect 'vessel_motion'
 //   free motion        A dq_f = f (A = M/dt^2 + D/dt + K, CHOLMOD)
-//   commit             positions, velocities, statistics
-//
-// (Collision detection and contact resolution join in later stages.)
+//   contacts           detection, status method, activation loop
+//                      (contact/contact_solver.h); not solved after N loops:
+//   subdivide          redo the step as two halves, recursively
+//   commit             positions, velocities, contacts, statistics
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "endovascular_sim/contact/contact_solver.h"
 #include "endovascular_sim/mechanics/device_model.h"
 #include "endovascular_sim/mechanics/device_state.h"
 #include "endovascular_sim/mechanics/implicit_euler.h"
@@ -31,8 +34,11 @@ struct SceneModel {
   std::string file;
   double time_step{1e-3};  // [s]
   EffectSet effects;
-  Vec3 gravity{0.0, 0.0, 0.0};                 // [m/s^2]; zero unless the effect is on
-  std::shared_ptr<const VesselField> vessels;  // null: free space
+  Vec3 gravity{0.0, 0.0, 0.0};                     // [m/s^2]; zero unless the effect is on
+  std::shared_ptr<const VesselField> vessels;      // null: free space
+  std::shared_ptr<const ImplicitSurface> surface;  // what contacts are solved against
+  ContactOptions contact;
+  std::vector<std::vector<SamplePoint>> samples;  // contact sample points per device
   std::vector<DeviceModel> devices;
   std::vector<Introducer> introducers;
   std::vector<double> initial_inserted_length;  // [m]
@@ -40,17 +46,26 @@ struct SceneModel {
   std::vector<ScriptedCommand> script;
 };
 
-/// Statistics of the last step (reset every step).
+/// Statistics of the last step (reset every step; sums over its sub-steps).
 struct StepStats {
   double wall_ms{0.0};           // whole step [ms]
   double assembly_ms{0.0};       // [ms], all devices
   double factorization_ms{0.0};  // [ms]
   double solve_ms{0.0};          // [ms]
-  int contacts{0};
-  double max_penetration_m{0.0};  // [m]
+  double detection_ms{0.0};      // [ms] first roots, re-detection, plane updates
+  double delassus_ms{0.0};       // [ms] W = H A^-1 H^T
+  double lcp_ms{0.0};            // [ms] status method (or the chosen solver)
+  double correction_ms{0.0};     // [ms] x = x_f + A^-1 H^T lambda
+  int contacts{0};               // contacts of the last LCP
+  int active_contacts{0};        // with a positive force
+  int activation_loops{0};       // most loops of a (sub-)step
+  int lcp_iterations{0};
+  double lcp_residual{0.0};       // worst natural-map residual
+  int subdivisions{0};            // sub-steps added by halving
+  double max_penetration_m{0.0};  // [m] deepest point beyond the wall at the end
 };
 
-enum class StepStatus { kOk, kSolverFailure };
+enum class StepStatus { kOk, kSolverFailure, kContactsUnsolved };
 
 struct SimData {
   double time{0.0};  // [s]
@@ -58,6 +73,7 @@ struct SimData {
   std::vector<DeviceState> devices;
   std::vector<DriveCommand> commands;
   std::vector<DeviceWorkspace> workspaces;
+  std::vector<Contact> contacts;  // of the last (sub-)step, with forces
   size_t next_script_entry{0};
   StepStats stats;
   std::string last_error;  // why the last failed step was rejected

@@ -5,7 +5,8 @@
 namespace evsim {
 namespace {
 
-SurfacePoint surfaceAt(const VesselField& field, const Vec3& p, double r, const MotionSnapshot& m) {
+SurfacePoint surfaceAt(const ImplicitSurface& field, const Vec3& p, double r,
+                       const MotionSnapshot& m) {
   SurfacePoint out;
   out.hit = true;
   out.point = p;
@@ -19,7 +20,7 @@ SurfacePoint surfaceAt(const VesselField& field, const Vec3& p, double r, const 
 /// tolerance in field units). Certified steps on sigma g + eps >= 0, then
 /// bisection of the exact zero between the last point of the start's sign
 /// and the first of the other sign.
-SurfacePoint firstSignChange(const VesselField& field, const Vec3& p0, const Vec3& p1, double r,
+SurfacePoint firstSignChange(const ImplicitSurface& field, const Vec3& p0, const Vec3& p1, double r,
                              const MotionSnapshot& m, FieldSample at, const RootOptions& options) {
   SurfacePoint none;
   const Vec3 d = p1 - p0;
@@ -27,14 +28,16 @@ SurfacePoint firstSignChange(const VesselField& field, const Vec3& p0, const Vec
   if (length == 0.0) return none;
   const double sigma = at.value >= 0.0 ? 1.0 : -1.0;
   const double eps = options.penetration_tolerance * at.gradient.norm();
-  const double H = std::max(field.hessianBound(p0, p1, r) * length * length, 1e-300);
+  const double H = field.hessianBound(p0, p1, r) * length * length;
   const double tol_s = options.tolerance / length;
   double s = 0.0, s_same = 0.0, s_other = -1.0;  // last same-sign point, first other-sign after it
   for (int it = 1; it <= options.max_iterations; ++it) {
     const double g = std::max(sigma * at.value + eps, 0.0);
     const double gp = sigma * at.gradient.dot(d);
-    // Smallest positive zero of the lower bound g + gp x - H x^2 / 2.
-    const double step = (gp + std::sqrt(gp * gp + 2.0 * H * g)) / H;
+    // Smallest positive zero of the lower bound g + gp x - H x^2 / 2, in the
+    // form that stays accurate as H -> 0 (a plane): 2g / (sqrt(gp^2 + 2Hg) - gp).
+    const double den = std::sqrt(gp * gp + 2.0 * H * g) - gp;
+    const double step = den > 0.0 ? 2.0 * g / den : 2.0;
     const double next = std::min(1.0, s + std::max(step, 2.0 * tol_s));
     const FieldSample nf = field.evaluate(p0 + next * d, r, m);
     const double v = sigma * nf.value;
@@ -72,7 +75,7 @@ SurfacePoint firstSignChange(const VesselField& field, const Vec3& p0, const Vec
 
 }  // namespace
 
-SurfacePoint firstRoot(const VesselField& field, const Vec3& p0, const Vec3& p1,
+SurfacePoint firstRoot(const ImplicitSurface& field, const Vec3& p0, const Vec3& p1,
                        double device_radius, const MotionSnapshot& motion,
                        const RootOptions& options) {
   const FieldSample at = field.evaluate(p0, device_radius, motion);
@@ -85,7 +88,7 @@ SurfacePoint firstRoot(const VesselField& field, const Vec3& p0, const Vec3& p1,
   return firstSignChange(field, p0, p1, device_radius, motion, at, options);
 }
 
-SurfacePoint projectToSurface(const VesselField& field, const Vec3& x, double device_radius,
+SurfacePoint projectToSurface(const ImplicitSurface& field, const Vec3& x, double device_radius,
                               const MotionSnapshot& motion, double max_distance,
                               const RootOptions& options) {
   const FieldSample at = field.evaluate(x, device_radius, motion);

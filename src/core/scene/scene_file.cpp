@@ -176,6 +176,36 @@ VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path&
   return v;
 }
 
+ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
+  ContactOptions o;
+  if (!n.IsMap()) r.fail(n, "contact", "must be a map");
+  if (n["solver"]) {
+    try {
+      o.lcp.solver = lcpSolverFromName(r.text(n["solver"], "contact.solver"));
+    } catch (const std::invalid_argument& e) {
+      r.fail(n["solver"], "contact.solver", e.what());
+    }
+  }
+  auto whole = [&](const char* key, int fallback) {
+    const double v = r.number(n, key, "contact.", fallback);
+    if (v != std::floor(v) || std::abs(v) > 1e9)
+      r.fail(n[key], std::string("contact.") + key, "must be a whole number");
+    return static_cast<int>(v);
+  };
+  o.lcp.tolerance = r.number(n, "tolerance", "contact.", o.lcp.tolerance);
+  o.lcp.max_iterations = whole("max_iterations", o.lcp.max_iterations);
+  o.lcp.regularization = r.number(n, "regularization", "contact.", o.lcp.regularization);
+  o.max_activation_loops = whole("max_activation_loops", o.max_activation_loops);
+  o.max_subdivisions = whole("max_subdivisions", o.max_subdivisions);
+  o.contact_spacing = r.number(n, "contact_spacing", "contact.", o.contact_spacing);
+  o.penetration_tolerance =
+      r.number(n, "penetration_tolerance", "contact.", o.penetration_tolerance);
+  o.root.tolerance = r.number(n, "root_tolerance", "contact.", o.root.tolerance);
+  const std::string why = validateContactOptions(o);
+  if (!why.empty()) r.fail(n, "contact", why);
+  return o;
+}
+
 ScriptedCommand readCommand(const YamlReader& r, const YAML::Node& n, int index,
                             const SceneSpec& scene) {
   const std::string p = "script[" + std::to_string(index) + "].";
@@ -246,6 +276,7 @@ SceneSpec loadSceneFile(const std::string& path) {
 
   const fs::path scene_dir = fs::path(path).parent_path();
   if (root["vessels"]) s.vessels = readVessels(r, root["vessels"], scene_dir);
+  if (root["contact"]) s.contact = readContact(r, root["contact"]);
   const bool moves =
       std::find(s.effects.begin(), s.effects.end(), "vessel_motion") != s.effects.end();
   if (moves && s.vessels.motion.empty())

@@ -16,24 +16,96 @@ void applyScript(const SceneModel& model, SimData* data) {
   }
 }
 
-/// Detection without response (until contacts are resolved): device nodes
-/// past the collision surface, and the deepest, -g / |grad g| [m].
-void measurePenetration(const SceneModel& model, const std::vector<DeviceState>& devices, double t,
-                        StepStats* stats) {
-  const MotionSnapshot motion =
-      model.effects.vessel_motion ? model.vessels->motionAt(t) : MotionSnapshot{};
-  for (size_t i = 0; i < devices.size(); ++i) {
-    const DeviceModel& dm = model.devices[i];
-    const int first = lastHeldNode(dm, devices[i].inserted_length) + 1;
-    for (int n = first; n < dm.num_nodes; ++n) {
-      const FieldSample g =
-          model.vessels->evaluate(devices[i].position[n], dm.node_radius[n], motion);
-      if (g.value >= 0.0) continue;
-      ++stats->contacts;
-      const double depth = g.gradient.norm() > 0 ? -g.value / g.gradient.norm() : 0.0;
-      stats->max_penetration_m = std::max(stats->max_penetration_m, depth);
+void addStats(const FreeMotionTimes& t, StepStats* s) {
+  s->assembly_ms += t.assembly_ms;
+  s->factorization_ms += t.factorization_ms;
+  s->solve_ms += t.solve_ms;
+}
+
+void addStats(const ContactStats& c, StepStats* s) {
+  s->detection_ms += c.detection_ms;
+  s->delassus_ms += c.delassus_ms;
+  s->lcp_ms += c.lcp_ms;
+  s->correction_ms += c.correction_ms;
+  s->contacts = c.contacts;
+  s->active_contacts = c.active_contacts;
+  s->activation_loops = std::max(s->activation_loops, c.activation_loops);
+  s->lcp_iterations += c.lcp_iterations;
+  s->lcp_residual = std::max(s->lcp_residual, c.lcp_residual);
+  s->max_penetration_m = c.max_penetration_m;
+}
+
+/// One (sub-)step of length dt from data->devices; on success the new states.
+StepStatus subStep(const SceneModel& model, SimData* data, double dt,
+                   std::vector<DeviceState>* next) {
+  *next = data->devices;
+  for (size_t i = 0; i < model.devices.size(); ++i) {
+    advanceDrive(data->commands[i], model.devices[i], dt, &(*next)[i]);
+    FreeMotionTimes t;
+    if (!computeFreeMotion(model.devices[i], model.introducers[i], model.gravity, dt, (*next)[i],
+                           &data->workspaces[i], &t)) {
+      data->last_error = "device '" + model.devices[i].name +
+                         "': the system matrix is not positive definite or the solve diverged";
+      return StepStatus::kSolverFailure;
+    }
+    addStats(t, &data->stats);
+  }
+  data->contacts.clear();
+  if (model.surface) {
+    ContactProblem pb;
+    pb.devices = &model.devices;
+    pb.start = next;
+    pb.workspaces = &data->workspaces;
+    pb.samples = &model.samples;
+    pb.surface = model.surface.get();
+    if (model.effects.vessel_motion) pb.motion = model.surface->motionAt(data->time + dt);
+    ContactStats cs;
+    const bool solved = resolveContacts(pb, model.contact, &data->contacts, &cs);
+    addStats(cs, &data->stats);
+    if (!solved) {
+      data->last_error = "contacts not solved after " +
+                         std::to_string(model.contact.max_activation_loops) +
+                         " activation loops (deepest point " +
+                         std::to_string(cs.max_penetration_m * 1e3) + " mm beyond the wall)";
+      return StepStatus::kContactsUnsolved;
     }
   }
+  for (size_t i = 0; i < model.devices.size(); ++i) {
+    commitMotion(data->workspaces[i].dq, dt, &(*next)[i]);
+    for (const Vec3& x : (*next)[i].position)
+      if (!x.allFinite()) {
+        data->last_error = "device '" + model.devices[i].name + "': a position is not finite";
+        return StepStatus::kSolverFailure;
+      }
+  }
+  return StepStatus::kOk;
+}
+
+/// Advances by dt; a step whose contacts are not solved is redone as two
+/// halves, recursively up to the subdivision limit. On failure data->devices
+/// is unchanged.
+StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth) {
+  std::vector<DeviceState> next;
+  const StepStatus status = subStep(model, data, dt, &next);
+  if (status == StepStatus::kOk) {
+    data->devices.swap(next);
+    data->time += dt;
+    return status;
+  }
+  if (status != StepStatus::kContactsUnsolved || depth >= model.contact.max_subdivisions)
+    return status;
+  const std::vector<DeviceState> saved = data->devices;
+  const double saved_time = data->time;
+  data->stats.subdivisions += 1;
+  for (int half = 0; half < 2; ++half) {
+    const StepStatus s = advance(model, data, 0.5 * dt, depth + 1);
+    if (s != StepStatus::kOk) {
+      data->devices = saved;
+      data->time = saved_time;
+      return s;
+    }
+  }
+  return StepStatus::kOk;
 }
 
 }  // namespace
@@ -49,14 +121,18 @@ SceneModel buildSceneModel(const SceneSpec& spec) {
     else if (e == "vessel_motion")
       m.effects.vessel_motion = true;
   if (m.effects.gravity) m.gravity = spec.gravity;
-  if (spec.vessels.present)
+  if (spec.vessels.present) {
     m.vessels = std::make_shared<const VesselField>(
         buildVesselField(spec.vessels, m.effects.vessel_motion));
+    m.surface = m.vessels;
+  }
+  m.contact = spec.contact;
   for (const auto& d : spec.devices) {
     m.devices.push_back(buildDeviceModel(d.device));
     m.introducers.push_back(d.introducer);
     m.initial_inserted_length.push_back(d.inserted_length);
     m.initial_rotation.push_back(d.rotation);
+    m.samples.push_back(sampleDevice(m.devices.back(), m.contact.contact_spacing));
   }
   m.script = spec.script;
   return m;
@@ -94,34 +170,16 @@ std::string setCommand(const SceneModel& model, SimData* data, const std::string
 
 StepStatus step(const SceneModel& model, SimData* data) {
   const auto t0 = Clock::now();
-  const double dt = model.time_step;
   data->stats = StepStats{};
   applyScript(model, data);
-
-  // Free motion of every device from the state at the start of the step.
-  std::vector<DeviceState> next = data->devices;
-  for (size_t i = 0; i < model.devices.size(); ++i) {
-    advanceDrive(data->commands[i], model.devices[i], dt, &next[i]);
-    FreeMotionTimes t;
-    if (!computeFreeMotion(model.devices[i], model.introducers[i], model.gravity, dt, next[i],
-                           &data->workspaces[i], &t)) {
-      data->last_error = "device '" + model.devices[i].name +
-                         "': the system matrix is not positive definite or the solve diverged";
-      return StepStatus::kSolverFailure;
-    }
-    data->stats.assembly_ms += t.assembly_ms;
-    data->stats.factorization_ms += t.factorization_ms;
-    data->stats.solve_ms += t.solve_ms;
+  const double t_end = data->time + model.time_step;
+  const StepStatus status = advance(model, data, model.time_step, 0);
+  if (status == StepStatus::kOk) {
+    data->time = t_end;  // no drift from summed halves
+    ++data->step;
   }
-
-  for (size_t i = 0; i < model.devices.size(); ++i)
-    commitMotion(data->workspaces[i].dq, dt, &next[i]);
-  if (model.vessels) measurePenetration(model, next, data->time + dt, &data->stats);
-  data->devices.swap(next);
-  data->time += dt;
-  ++data->step;
   data->stats.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-  return StepStatus::kOk;
+  return status;
 }
 
 }  // namespace evsim

@@ -1,0 +1,37 @@
+// Points of a device where contacts are detected, sampled along its elements
+// (not only at nodes) with the beam's cubic Hermite interpolation:
+//   p(xi) = h00 x1 + h10 L t1 + h01 x2 + h11 L t2,   xi in [0, 1],
+// t_i = R_i e_x the nodal tangents, L the element's rest length. A contact
+// with unit normal n constrains n . (p - i0) >= 0; its row of H over the two
+// nodes' 12 DOFs (dx1, dtheta1, dx2, dtheta2) is
+//   [h00 n^T, h10 L (t1 x n)^T, h01 n^T, h11 L (t2 x n)^T].
+#pragma once
+
+#include <vector>
+
+#include "endovascular_sim/core/types.h"
+#include "endovascular_sim/mechanics/device_model.h"
+#include "endovascular_sim/mechanics/device_state.h"
+
+namespace evsim {
+
+using Row12 = Eigen::Matrix<double, 1, 12>;
+
+struct SamplePoint {
+  int element{0};      // between nodes element and element + 1
+  double xi{0.0};      // [0, 1] along the element
+  double radius{0.0};  // device radius there [m]
+};
+
+/// Sample points of one device: every node, and interior points so that
+/// neighbours are at most `spacing` [m] apart along each element.
+std::vector<SamplePoint> sampleDevice(const DeviceModel& model, double spacing);
+
+/// Position of a sample point in a configuration [m].
+Vec3 samplePosition(const DeviceModel& model, const DeviceState& state, const SamplePoint& s);
+
+/// Row of H for a contact of normal n at a sample point.
+Row12 contactRow(const DeviceModel& model, const DeviceState& state, const SamplePoint& s,
+                 const Vec3& n);
+
+}  // namespace evsim

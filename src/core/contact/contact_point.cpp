@@ -1,0 +1,59 @@
+#include "endovascular_sim/contact/contact_point.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace evsim {
+namespace {
+
+struct Hermite {
+  double h00, h10, h01, h11;
+  explicit Hermite(double t) {
+    const double t2 = t * t, t3 = t2 * t;
+    h00 = 2 * t3 - 3 * t2 + 1;
+    h10 = t3 - 2 * t2 + t;
+    h01 = -2 * t3 + 3 * t2;
+    h11 = t3 - t2;
+  }
+};
+
+Vec3 tangent(const DeviceState& s, int node) { return s.rotation[node] * Vec3::UnitX(); }
+
+}  // namespace
+
+std::vector<SamplePoint> sampleDevice(const DeviceModel& model, double spacing) {
+  std::vector<SamplePoint> points;
+  const int ne = model.num_nodes - 1;
+  for (int e = 0; e < ne; ++e) {
+    const int k =
+        std::max(1, static_cast<int>(std::ceil(model.elements[e].length / spacing - 1e-9)));
+    const double r = std::max(model.node_radius[e], model.node_radius[e + 1]);
+    for (int j = 0; j < k; ++j) points.push_back({e, static_cast<double>(j) / k, r});
+  }
+  points.push_back({ne - 1, 1.0, model.node_radius[ne]});
+  return points;
+}
+
+Vec3 samplePosition(const DeviceModel& model, const DeviceState& state, const SamplePoint& s) {
+  const int a = s.element, b = s.element + 1;
+  if (s.xi == 0.0) return state.position[a];
+  if (s.xi == 1.0) return state.position[b];
+  const Hermite h(s.xi);
+  const double L = model.elements[s.element].length;
+  return h.h00 * state.position[a] + h.h10 * L * tangent(state, a) + h.h01 * state.position[b] +
+         h.h11 * L * tangent(state, b);
+}
+
+Row12 contactRow(const DeviceModel& model, const DeviceState& state, const SamplePoint& s,
+                 const Vec3& n) {
+  const Hermite h(s.xi);
+  const double L = model.elements[s.element].length;
+  Row12 row;
+  row.segment<3>(0) = h.h00 * n.transpose();
+  row.segment<3>(3) = h.h10 * L * tangent(state, s.element).cross(n).transpose();
+  row.segment<3>(6) = h.h01 * n.transpose();
+  row.segment<3>(9) = h.h11 * L * tangent(state, s.element + 1).cross(n).transpose();
+  return row;
+}
+
+}  // namespace evsim
