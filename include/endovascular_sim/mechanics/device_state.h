@@ -15,6 +15,7 @@ struct DeviceState {
   std::vector<Vec3> angular_velocity;  // world [rad/s]
   double inserted_length{0.0};         // material past the access point [m]
   double rotation_angle{0.0};          // commanded proximal rotation [rad]
+  bool released{false};                // detached: no node held, commands ignored
 };
 
 /// State at rest in the model's rest shape, moved by the rigid motion (R, t).

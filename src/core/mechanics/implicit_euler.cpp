@@ -29,7 +29,7 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
                        FreeMotionTimes* times) {
   const auto t0 = Clock::now();
   const int n = model.num_nodes;
-  const int held = lastHeldNode(model, state.inserted_length);
+  const int held = state.released ? -1 : lastHeldNode(model, state.inserted_length);
   const int first_free = held + 1;
   ws->dq.setZero(6 * n);
 
@@ -61,7 +61,8 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
     ws->rhs.segment<6>(6 * (i - first_free)) =
         f - ws->elastic_gradient.segment<6>(6 * i) + M * v / dt;
   }
-  if (nf > 0) ws->rhs.head<6>() -= A.upper[held].transpose() * ws->dq.segment<6>(6 * held);
+  if (nf > 0 && held >= 0)
+    ws->rhs.head<6>() -= A.upper[held].transpose() * ws->dq.segment<6>(6 * held);
   if (times) times->assembly_ms = msSince(t0);
 
   if (nf == 0) return true;

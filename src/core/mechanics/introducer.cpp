@@ -67,6 +67,7 @@ std::string validateDriveCommand(const DriveCommand& command, const DeviceModel&
 
 void advanceDrive(const DriveCommand& command, const DeviceModel& model, double dt,
                   DeviceState* state) {
+  if (state->released) return;
   double d_insert, d_rotate;
   if (command.mode == DriveCommand::Mode::kVelocity) {
     d_insert = command.insertion * dt;

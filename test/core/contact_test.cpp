@@ -1,0 +1,110 @@
+// Contacts against analytic answers and Signorini's law on the shipped scenes.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "endovascular_sim/contact/contact_solver.h"
+#include "endovascular_sim/mechanics/device_model.h"
+#include "endovascular_sim/sim/simulation.h"
+#include "test_helpers.h"
+
+namespace evsim {
+namespace {
+
+/// A straight wire (nitinol, 0.2 m, 40 elements) released on the floor z = 0
+/// under gravity.
+SceneModel wireOnFloor(LcpSolver solver) {
+  SceneModel m;
+  m.name = "floor";
+  m.time_step = 1e-3;
+  m.effects.gravity = true;
+  m.gravity = Vec3(0, 0, -9.81);
+  DeviceSpec spec = straightDeviceSpec("wire", test::wireSection(60e9, 2e-4), 0.2, 40);
+  spec.rayleigh_mass = 20.0;
+  m.devices.push_back(buildDeviceModel(spec));
+  Introducer intro;
+  intro.access_point = Vec3(0, 0, 2e-4 + 1e-5);  // 10 um above the floor
+  m.introducers.push_back(intro);
+  m.initial_inserted_length.push_back(m.devices[0].length);
+  m.initial_rotation.push_back(0.0);
+  m.surface = std::make_shared<PlaneSurface>(Vec3::Zero(), Vec3::UnitZ());
+  m.contact.lcp.solver = solver;
+  m.contact.contact_spacing = 2.5e-3;
+  m.samples.push_back(sampleDevice(m.devices[0], m.contact.contact_spacing));
+  return m;
+}
+
+class FloorEquilibrium : public ::testing::TestWithParam<LcpSolver> {};
+
+TEST_P(FloorEquilibrium, ContactForcesSumToTheWeight) {
+  const SceneModel m = wireOnFloor(GetParam());
+  SimData d = makeData(m);
+  d.devices[0].released = true;
+  for (int k = 0; k < 3000; ++k) ASSERT_EQ(step(m, &d), StepStatus::kOk) << d.last_error;
+  double weight = 0.0;
+  for (double mass : m.devices[0].node_mass) weight += mass * 9.81;
+  Vec3 total = Vec3::Zero();
+  for (const Contact& c : d.contacts) total += c.force * c.normal;
+  std::printf("[ metric   ] floor (%s): %zu contacts, sum of forces %.9e N, weight %.9e N\n",
+              lcpSolverName(GetParam()), d.contacts.size(), total.z(), weight);
+  EXPECT_NEAR(total.z(), weight, 1e-6 * weight);
+  EXPECT_LT(total.head<2>().norm(), 1e-9 * weight);
+  for (const Vec3& x : d.devices[0].position) EXPECT_NEAR(x.z(), 2e-4, 1e-6);  // resting on it
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, FloorEquilibrium,
+                         ::testing::Values(LcpSolver::kStatusMethod, LcpSolver::kLemke),
+                         [](const auto& info) { return std::string(lcpSolverName(info.param)); });
+
+/// Signorini after every step: forces >= 0, active contacts on their plane,
+/// no point beyond the wall by more than the tolerance.
+void expectSignorini(const SceneModel& m, const SimData& d, const std::string& where) {
+  const double tol = m.contact.penetration_tolerance;
+  EXPECT_LE(d.stats.max_penetration_m, tol) << where;
+  EXPECT_LE(d.stats.lcp_residual, 1e-10) << where;
+  for (const Contact& c : d.contacts) {
+    EXPECT_GE(c.force, 0.0) << where;
+    EXPECT_GE(c.gap, -tol) << where;
+    if (c.force > 0.0) {
+      EXPECT_LE(std::abs(c.gap), tol) << where << " force " << c.force;
+    }
+  }
+}
+
+class SceneSignorini : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SceneSignorini, HoldsAfterEveryStep) {
+  const SceneModel m = loadScene(GetParam());
+  SimData d = makeData(m);
+  int max_contacts = 0, steps_with_contacts = 0;
+  const int steps = GetParam() == "aneurysm" ? 1500 : 4000;
+  for (int k = 0; k < steps; ++k) {
+    ASSERT_EQ(step(m, &d), StepStatus::kOk) << GetParam() << " step " << k << ": " << d.last_error;
+    expectSignorini(m, d, GetParam() + " step " + std::to_string(k));
+    if (::testing::Test::HasFailure()) return;
+    max_contacts = std::max(max_contacts, d.stats.active_contacts);
+    steps_with_contacts += d.stats.active_contacts > 0;
+  }
+  std::printf("[ metric   ] %s: %d steps with contacts, at most %d active\n", GetParam().c_str(),
+              steps_with_contacts, max_contacts);
+  EXPECT_GT(steps_with_contacts, 0) << "the scene never touched a wall";
+}
+
+INSTANTIATE_TEST_SUITE_P(Shipped, SceneSignorini,
+                         ::testing::Values("carotid", "aneurysm", "network"));
+
+TEST(ContactOptions, OutOfRangeAreRefused) {
+  ContactOptions o;
+  EXPECT_EQ(validateContactOptions(o), "");
+  o.max_activation_loops = 0;
+  EXPECT_NE(validateContactOptions(o).find("max_activation_loops"), std::string::npos);
+  o = ContactOptions{};
+  o.lcp.tolerance = -1.0;
+  EXPECT_NE(validateContactOptions(o).find("tolerance"), std::string::npos);
+  o = ContactOptions{};
+  o.max_subdivisions = 40;
+  EXPECT_NE(validateContactOptions(o).find("max_subdivisions"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace evsim
