@@ -1,13 +1,17 @@
 // evsim: command-line runner on the core library (no ROS).
 //
-//   evsim run SCENE [--steps N] [--json]   step a scene, print progress or JSON
+//   evsim run SCENE [--steps N] [--json] [--dump-lcp DIR]
+//                                          step a scene, print progress or JSON;
+//                                          write each step's last LCP to DIR
 //   evsim mesh SCENE --out FILE [--spacing M] [--device-radius M]
 //                                          vessel surface as PLY or STL
 //   evsim list                             shipped scenes
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <string>
 
@@ -23,7 +27,8 @@ namespace {
 int usage(const char* why = nullptr) {
   if (why) std::cerr << "evsim: " << why << "\n";
   std::cerr << "usage:\n"
-               "  evsim run SCENE [--steps N] [--json]   SCENE: a path or a shipped scene name\n"
+               "  evsim run SCENE [--steps N] [--json] [--dump-lcp DIR]\n"
+               "                                         SCENE: a path or a shipped scene name\n"
                "  evsim mesh SCENE --out FILE.ply|.stl [--spacing M] [--device-radius M]\n"
                "  evsim list                             the shipped scenes\n";
   return 2;
@@ -34,9 +39,12 @@ int runCommand(int argc, char** argv) {
   const std::string scene = argv[0];
   long steps = 1000;
   bool json = false;
+  std::string dump_dir;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--json")) {
       json = true;
+    } else if (!std::strcmp(argv[i], "--dump-lcp") && i + 1 < argc) {
+      dump_dir = argv[++i];
     } else if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) {
       char* end = nullptr;
       steps = std::strtol(argv[++i], &end, 10);
@@ -47,6 +55,10 @@ int runCommand(int argc, char** argv) {
   }
   const SceneModel model = loadScene(scene);
   SimData data = makeData(model);
+  if (!dump_dir.empty()) {
+    std::filesystem::create_directories(dump_dir);
+    data.record_lcp = true;
+  }
   const long report_every = std::max(1L, static_cast<long>(0.1 / model.time_step + 0.5));
   double wall_ms = 0.0;
   for (long k = 0; k < steps; ++k) {
@@ -55,6 +67,14 @@ int runCommand(int argc, char** argv) {
       return 1;
     }
     wall_ms += data.stats.wall_ms;
+    if (!dump_dir.empty() && data.lcp.q.size() > 0) {
+      char name[64];
+      std::snprintf(name, sizeof(name), "/step_%07ld.lcp", data.step);
+      if (!writeLcpRecord(data.lcp, dump_dir + name)) {
+        std::cerr << "evsim: cannot write " << dump_dir + name << "\n";
+        return 1;
+      }
+    }
     if (json) {
       std::cout << stepJson(model, data) << "\n";
     } else if (data.step % report_every == 0 || k + 1 == steps) {

@@ -59,6 +59,20 @@ struct ContactStats {
   double correction_ms{0.0};
 };
 
+/// The LCP of the last activation loop (for dumps and offline comparisons).
+struct LcpRecord {
+  MatX W;  // c x c Delassus operator [m/N]
+  VecX q;  // c: gaps after the free motion [m]
+  VecX z;  // c: forces found [N]
+};
+
+/// Writes a record as text: a header comment, "size c", then "W" and its c
+/// rows, "q" and c numbers, "z" and c numbers (%.17g). Returns false on I/O
+/// failure.
+bool writeLcpRecord(const LcpRecord& record, const std::string& path);
+/// Reads a record written by writeLcpRecord (throws LoadError).
+LcpRecord readLcpRecord(const std::string& path);
+
 /// One contact problem: states at the start of the step, free-motion
 /// increments and factors in the workspaces (corrected in place).
 struct ContactProblem {
@@ -67,7 +81,8 @@ struct ContactProblem {
   std::vector<DeviceWorkspace>* workspaces{nullptr};
   const std::vector<std::vector<SamplePoint>>* samples{nullptr};
   const ImplicitSurface* surface{nullptr};
-  MotionSnapshot motion;  // of the surface at the end of the step
+  MotionSnapshot motion;       // of the surface at the end of the step
+  LcpRecord* record{nullptr};  // when set, receives the last LCP
 };
 
 /// Corrects ws.dq of every device so that no sample point lies beyond the

@@ -74,6 +74,8 @@ struct SimData {
   std::vector<DriveCommand> commands;
   std::vector<DeviceWorkspace> workspaces;
   std::vector<Contact> contacts;  // of the last (sub-)step, with forces
+  bool record_lcp{false};         // keep the last LCP in `lcp` (dumps, tests)
+  LcpRecord lcp;
   size_t next_script_entry{0};
   StepStats stats;
   std::string last_error;  // why the last failed step was rejected

@@ -2,8 +2,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <sstream>
 
+#include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/mechanics/elasticity.h"
 
 namespace evsim {
@@ -36,6 +39,46 @@ double depthOf(const FieldSample& g) {
 }
 
 }  // namespace
+
+bool writeLcpRecord(const LcpRecord& r, const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) return false;
+  const long c = r.q.size();
+  std::fprintf(f,
+               "# endovascular_sim LCP: w = W z + q, 0 <= z _|_ w >= 0; W [m/N], q [m], z [N]\n");
+  std::fprintf(f, "size %ld\nW\n", c);
+  for (long i = 0; i < c; ++i)
+    for (long j = 0; j < c; ++j) std::fprintf(f, "%.17g%c", r.W(i, j), j + 1 < c ? ' ' : '\n');
+  std::fprintf(f, "q\n");
+  for (long i = 0; i < c; ++i) std::fprintf(f, "%.17g\n", r.q(i));
+  std::fprintf(f, "z\n");
+  for (long i = 0; i < c; ++i) std::fprintf(f, "%.17g\n", r.z(i));
+  return std::fclose(f) == 0;
+}
+
+LcpRecord readLcpRecord(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw LoadError(path, 0, "", "cannot open the LCP file");
+  std::string line, word;
+  std::getline(in, line);  // header comment
+  long c = -1;
+  if (!(in >> word >> c) || word != "size" || c < 0)
+    throw LoadError(path, 2, "size", "expected 'size c'");
+  LcpRecord r{MatX(c, c), VecX(c), VecX(c)};
+  auto expect = [&](const char* name) {
+    if (!(in >> word) || word != name) throw LoadError(path, 0, name, "section missing");
+  };
+  expect("W");
+  for (long i = 0; i < c * c; ++i)
+    if (!(in >> r.W(i / c, i % c))) throw LoadError(path, 0, "W", "too few numbers");
+  expect("q");
+  for (long i = 0; i < c; ++i)
+    if (!(in >> r.q(i))) throw LoadError(path, 0, "q", "too few numbers");
+  expect("z");
+  for (long i = 0; i < c; ++i)
+    if (!(in >> r.z(i))) throw LoadError(path, 0, "z", "too few numbers");
+  return r;
+}
 
 std::string validateContactOptions(const ContactOptions& o) {
   std::ostringstream why;
@@ -154,6 +197,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     st->lcp_iterations += ls.iterations;
     st->lcp_residual = ls.residual;
     st->contacts = c;
+    if (pb.record) *pb.record = {W, q, lambda};
     if (status == LcpStatus::kFailed) return false;
 
     // --- Correction x = x_f + A^-1 H^T lambda --------------------------------

@@ -59,6 +59,10 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     pb.samples = &model.samples;
     pb.surface = model.surface.get();
     if (model.effects.vessel_motion) pb.motion = model.surface->motionAt(data->time + dt);
+    if (data->record_lcp) {
+      data->lcp = LcpRecord{};
+      pb.record = &data->lcp;
+    }
     ContactStats cs;
     const bool solved = resolveContacts(pb, model.contact, &data->contacts, &cs);
     addStats(cs, &data->stats);
