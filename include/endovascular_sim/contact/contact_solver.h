@@ -5,7 +5,9 @@
 //             x = x_f + A^-1 H^T lambda
 //             re-detect on x: a violated contact's tangent plane is updated
 //             from the gradient at x (projection to the surface), a new
-//             violation becomes a new contact
+//             violation becomes a new contact; a contact violated again after
+//             its update gets a second plane (concave walls: updates alone can
+//             oscillate, an added plane only shrinks the admissible set)
 //   until     no point lies beyond the wall by more than the tolerance, or
 //             N loops (the caller then subdivides the time step).
 //

@@ -120,8 +120,25 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   for (size_t d = 0; d < nd; ++d) {
     contact_of[d].assign(samples[d].size(), -1);
     const int first_free = ws[d].first_free_node;
+    // Per element, the deepest crossing at x_f only: the activation loop adds
+    // any other point of the element that stays beyond the wall.
+    int best_element = -1, best_sample = -1;
+    double best_depth = -1.0;
+    SurfacePoint best_hit;
+    auto flush = [&]() {
+      if (best_sample < 0) return;
+      contact_of[d][best_sample] = static_cast<int>(contacts->size());
+      contacts->push_back(
+          {static_cast<int>(d), best_sample, best_hit.point, best_hit.normal, 0, 0});
+      best_sample = -1;
+      best_depth = -1.0;
+    };
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& s = samples[d][k];
+      if (s.element != best_element) {
+        flush();
+        best_element = s.element;
+      }
       if (!isFree(s, first_free)) continue;
       const Vec3 p0 = samplePosition(devices[d], start[d], s);
       const Vec3 p1 = samplePosition(devices[d], xf[d], s);
@@ -131,14 +148,20 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         hit = projectToSurface(*pb.surface, p1, s.radius, pb.motion, 0.01, o.root);
         if (!hit.hit) continue;
       }
-      contact_of[d][k] = static_cast<int>(contacts->size());
-      contacts->push_back({static_cast<int>(d), static_cast<int>(k), hit.point, hit.normal, 0, 0});
+      const double depth = -hit.normal.dot(p1 - hit.point);
+      if (depth > best_depth) {
+        best_depth = depth;
+        best_sample = static_cast<int>(k);
+        best_hit = hit;
+      }
     }
+    flush();
   }
   st->detection_ms += msSince(t0);
 
   bool solved = contacts->empty();
   std::vector<DeviceState> x = xf;
+  std::vector<char> updated(contacts->size(), 0);  // plane already updated in this step
   for (int loop = 1; loop <= o.max_activation_loops && !solved; ++loop) {
     st->activation_loops = loop;
     const int c = static_cast<int>(contacts->size());
@@ -228,20 +251,29 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         if (depthOf(g) <= o.penetration_tolerance) continue;
         solved = false;
         SurfacePoint plane = projectToSurface(*pb.surface, p, s.radius, pb.motion, 0.01, o.root);
-        if (contact_of[d][k] >= 0) {
+        const int existing = contact_of[d][k];
+        if (existing >= 0 && !updated[existing]) {
+          // The paper's update: the tangent plane where x projects.
           if (!plane.hit) continue;
-          Contact& ct = (*contacts)[contact_of[d][k]];  // the paper's tangent-plane update
+          Contact& ct = (*contacts)[existing];
           ct.point = plane.point;
           ct.normal = plane.normal;
-        } else {
+          updated[existing] = 1;
+          continue;
+        }
+        if (existing < 0) {
           const Vec3 p0 = samplePosition(devices[d], start[d], s);
           SurfacePoint hit = firstRoot(*pb.surface, p0, p, s.radius, pb.motion, o.root);
           if (hit.hit && !hit.started_outside) plane = hit;
-          if (!plane.hit) continue;
-          contact_of[d][k] = static_cast<int>(contacts->size());
-          contacts->push_back(
-              {static_cast<int>(d), static_cast<int>(k), plane.point, plane.normal, 0, 0});
         }
+        // A new contact, or a second plane for a point violated again after
+        // its update (a concave wall: updates alone can oscillate; the extra
+        // plane only shrinks the admissible set, so the loop converges).
+        if (!plane.hit) continue;
+        contact_of[d][k] = static_cast<int>(contacts->size());
+        contacts->push_back(
+            {static_cast<int>(d), static_cast<int>(k), plane.point, plane.normal, 0, 0});
+        updated.push_back(0);
       }
     }
     st->detection_ms += msSince(t0);

@@ -19,6 +19,25 @@ class ActiveCholesky {
   int size() const { return static_cast<int>(set_.size()); }
   const std::vector<int>& set() const { return set_; }
 
+  /// Starts from the ordered set `init` with one blocked factorisation;
+  /// indices whose pivot is not positive are left out.
+  void reset(const std::vector<int>& init) {
+    set_.clear();
+    if (init.empty()) return;
+    const int k = static_cast<int>(init.size());
+    MatX Waa(k, k);
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; j < k; ++j) Waa(i, j) = W_(init[i], init[j]);
+    Waa.diagonal().array() += eps_;
+    Eigen::LLT<MatX> llt(Waa);
+    if (llt.info() == Eigen::Success) {
+      L_.topLeftCorner(k, k) = llt.matrixL();
+      set_ = init;
+      return;
+    }
+    for (int i : init) add(i);  // fall back: one by one, skipping dependent rows
+  }
+
   /// Appends index i; false when the pivot is not positive (then unchanged).
   bool add(int i) {
     const int k = size();
@@ -77,8 +96,8 @@ LcpStatus statusMethod(const MatX& W, const VecX& q, const LcpOptions& o, VecX* 
   for (int i = 0; i < c; ++i)
     if (q(i) < -o.tolerance) order.push_back(i);
   std::sort(order.begin(), order.end(), [&](int a, int b) { return q(a) < q(b); });
-  for (int i : order)
-    if (chol.add(i)) active[i] = 1;
+  chol.reset(order);
+  for (int i : chol.set()) active[i] = 1;
 
   z->setZero(c);
   Eigen::VectorXd za;
