@@ -45,15 +45,26 @@ TEST_P(FloorEquilibrium, ContactForcesSumToTheWeight) {
   const SceneModel m = wireOnFloor(GetParam());
   SimData d = makeData(m);
   d.devices[0].released = true;
-  for (int k = 0; k < 3000; ++k) ASSERT_EQ(step(m, &d), StepStatus::kOk) << d.last_error;
   double weight = 0.0;
   for (double mass : m.devices[0].node_mass) weight += mass * 9.81;
-  Vec3 total = Vec3::Zero();
-  for (const Contact& c : d.contacts) total += c.force * c.normal;
-  std::printf("[ metric   ] floor (%s): %zu contacts, sum of forces %.9e N, weight %.9e N\n",
-              lcpSolverName(GetParam()), d.contacts.size(), total.z(), weight);
-  EXPECT_NEAR(total.z(), weight, 1e-6 * weight);
-  EXPECT_LT(total.head<2>().norm(), 1e-9 * weight);
+  // At rest the contact forces carry the weight. Nodes may still chatter by
+  // nanometres inside the tolerance bands, which moves single steps' sums by
+  // ~1e-6; momentum balance makes the time average exact, so both are checked.
+  Vec3 total = Vec3::Zero(), average = Vec3::Zero();
+  const int settle = 3000, window = 1000;
+  for (int k = 0; k < settle + window; ++k) {
+    ASSERT_EQ(step(m, &d), StepStatus::kOk) << d.last_error;
+    total.setZero();
+    for (const Contact& c : d.contacts) total += c.force * c.normal;
+    if (k >= settle) {
+      average += total / window;
+      EXPECT_NEAR(total.z(), weight, 1e-5 * weight) << "step " << k;
+    }
+  }
+  std::printf("[ metric   ] floor (%s): %zu contacts, mean sum of forces %.9e N, weight %.9e N\n",
+              lcpSolverName(GetParam()), d.contacts.size(), average.z(), weight);
+  EXPECT_NEAR(average.z(), weight, 1e-6 * weight);
+  EXPECT_LT(average.head<2>().norm(), 1e-9 * weight);
   for (const Vec3& x : d.devices[0].position) EXPECT_NEAR(x.z(), 2e-4, 1e-6);  // resting on it
 }
 
