@@ -13,7 +13,8 @@ Dimensions (lumen diameters; typical adult values):
   common carotid arteries 7 mm; internal carotid 4.8 mm; external 3.8 mm
       (Krejza et al., Stroke 2006)
   ICA siphon segment for the aneurysm scene 4.4 mm, saccular aneurysm dome
-  7 mm with a ~4 mm neck (small-to-medium aneurysm; neck < 4 mm "narrow")
+  7 mm with a 3.0 mm neck (small-to-medium aneurysm, dome/neck > 2: a
+  typical candidate for coiling; measured by AneurysmScene test)
 Run: python3 scripts/make_vessels.py  (rewrites config/vessels/*.swc)
 """
 import math

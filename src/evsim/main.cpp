@@ -5,7 +5,10 @@
 //                                          write each step's last LCP to DIR
 //   evsim mesh SCENE --out FILE [--spacing M] [--device-radius M]
 //                                          vessel surface as PLY or STL
+//   evsim bench SCENE [--steps N] [--warmup N] [--elements E]
+//                                          step-time statistics (median, p99, Hz)
 //   evsim list                             shipped scenes
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -30,6 +33,7 @@ int usage(const char* why = nullptr) {
                "  evsim run SCENE [--steps N] [--json] [--dump-lcp DIR]\n"
                "                                         SCENE: a path or a shipped scene name\n"
                "  evsim mesh SCENE --out FILE.ply|.stl [--spacing M] [--device-radius M]\n"
+               "  evsim bench SCENE [--steps N] [--warmup N] [--elements E]\n"
                "  evsim list                             the shipped scenes\n";
   return 2;
 }
@@ -90,6 +94,78 @@ int runCommand(int argc, char** argv) {
   return 0;
 }
 
+/// Scales every device's element counts so that each has about `elements`.
+void setElementCount(SceneSpec* spec, int elements) {
+  for (auto& d : spec->devices) {
+    int total = 0;
+    for (const auto& sec : d.device.sections) total += sec.elements;
+    for (auto& sec : d.device.sections)
+      sec.elements =
+          std::max(1, static_cast<int>(std::lround(1.0 * sec.elements * elements / total)));
+  }
+}
+
+int benchCommand(int argc, char** argv) {
+  if (argc < 1) return usage("bench needs a SCENE");
+  long steps = 3000, warmup = 0;
+  int elements = 0;
+  for (int i = 1; i < argc; ++i) {
+    char* end = nullptr;
+    if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) {
+      steps = std::strtol(argv[++i], &end, 10);
+    } else if (!std::strcmp(argv[i], "--warmup") && i + 1 < argc) {
+      warmup = std::strtol(argv[++i], &end, 10);
+    } else if (!std::strcmp(argv[i], "--elements") && i + 1 < argc) {
+      elements = static_cast<int>(std::strtol(argv[++i], &end, 10));
+    } else {
+      return usage((std::string("unknown argument ") + argv[i]).c_str());
+    }
+    if (*end != '\0' || steps < 1 || warmup < 0 || elements < 0)
+      return usage("bench options need whole numbers (steps >= 1)");
+  }
+  SceneSpec spec = loadSceneFile(resolveScenePath(argv[0]));
+  if (elements > 0) setElementCount(&spec, elements);
+  const SceneModel model = buildSceneModel(spec);
+  SimData data = makeData(model);
+  for (long k = 0; k < warmup; ++k)
+    if (step(model, &data) != StepStatus::kOk) {
+      std::cerr << "evsim: warm-up step failed: " << data.last_error << "\n";
+      return 1;
+    }
+  std::vector<double> ms;
+  std::vector<int> contacts;
+  int subdivided = 0, max_loops = 0;
+  for (long k = 0; k < steps; ++k) {
+    if (step(model, &data) != StepStatus::kOk) {
+      std::cerr << "evsim: step failed: " << data.last_error << "\n";
+      return 1;
+    }
+    ms.push_back(data.stats.wall_ms);
+    contacts.push_back(data.stats.active_contacts);
+    subdivided += data.stats.subdivisions > 0;
+    max_loops = std::max(max_loops, data.stats.activation_loops);
+  }
+  std::vector<double> sorted = ms;
+  std::sort(sorted.begin(), sorted.end());
+  auto pct = [&](double p) {
+    return sorted[std::min(sorted.size() - 1, static_cast<size_t>(p * sorted.size()))];
+  };
+  double mean = 0.0;
+  for (double v : ms) mean += v / ms.size();
+  int nodes = 0;
+  for (const auto& d : model.devices) nodes += d.num_nodes - 1;
+  std::sort(contacts.begin(), contacts.end());
+  std::printf("scene %s: %zu device(s), %d elements, %ld steps after %ld warm-up\n",
+              model.name.c_str(), model.devices.size(), nodes, steps, warmup);
+  std::printf(
+      "step [ms]: median %.3f  mean %.3f  p90 %.3f  p99 %.3f  max %.3f  -> %.0f Hz at the median\n",
+      pct(0.5), mean, pct(0.9), pct(0.99), sorted.back(), 1e3 / pct(0.5));
+  std::printf(
+      "active contacts: median %d  max %d;  steps subdivided %d;  most activation loops %d\n",
+      contacts[contacts.size() / 2], contacts.back(), subdivided, max_loops);
+  return 0;
+}
+
 bool parseLength(const char* text, double* out) {
   char* end = nullptr;
   *out = std::strtod(text, &end);
@@ -140,6 +216,7 @@ int main(int argc, char** argv) {
   try {
     if (command == "run") return evsim::runCommand(argc - 2, argv + 2);
     if (command == "mesh") return evsim::meshCommand(argc - 2, argv + 2);
+    if (command == "bench") return evsim::benchCommand(argc - 2, argv + 2);
     if (command == "list") {
       for (const auto& s : evsim::shippedScenes()) std::cout << s << "\n";
       return 0;

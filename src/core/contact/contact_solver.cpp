@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "endovascular_sim/contact/delassus.h"
 #include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/mechanics/elasticity.h"
 
@@ -183,31 +184,15 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     for (size_t d = 0; d < nd; ++d) {
       const auto& idx = of_device[d];
       if (idx.empty()) continue;
-      const int first = ws[d].first_free_node;
-      const int n = ws[d].cholesky.size();
-      MatX Ht = MatX::Zero(n, idx.size());
+      std::vector<ContactRow> device_rows(idx.size());
       for (size_t j = 0; j < idx.size(); ++j) {
         const SamplePoint& s = samples[d][(*contacts)[idx[j]].sample];
-        for (int half = 0; half < 2; ++half) {
-          const int node = s.element + half;
-          if (node < first) continue;
-          Ht.col(j).segment<6>(6 * (node - first)) = rows[idx[j]].segment<6>(6 * half).transpose();
-        }
+        device_rows[j] = {6 * (s.element - ws[d].first_free_node), rows[idx[j]]};
       }
-      ws[d].cholesky.solve(Ht, &Y[d]);
-      // W_ij = h_i . Y_j over the 12 non-zeros of h_i.
-      for (size_t a = 0; a < idx.size(); ++a) {
-        const SamplePoint& s = samples[d][(*contacts)[idx[a]].sample];
-        for (size_t b = 0; b < idx.size(); ++b) {
-          double w = 0.0;
-          for (int half = 0; half < 2; ++half) {
-            const int node = s.element + half;
-            if (node < first) continue;
-            w += rows[idx[a]].segment<6>(6 * half).dot(Y[d].col(b).segment<6>(6 * (node - first)));
-          }
-          W(idx[a], idx[b]) = w;
-        }
-      }
+      MatX Wd;
+      delassusOperator(ws[d].cholesky, device_rows, &Y[d], &Wd);
+      for (size_t a = 0; a < idx.size(); ++a)
+        for (size_t b = 0; b < idx.size(); ++b) W(idx[a], idx[b]) = Wd(a, b);
     }
     st->delassus_ms += msSince(t0);
 
@@ -221,7 +206,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     st->lcp_residual = ls.residual;
     st->contacts = c;
     if (pb.record) *pb.record = {W, q, lambda};
-    if (status == LcpStatus::kFailed) return false;
+    if (status != LcpStatus::kSolved) return false;  // the caller subdivides
 
     // --- Correction x = x_f + A^-1 H^T lambda --------------------------------
     t0 = Clock::now();

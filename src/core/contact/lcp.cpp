@@ -85,6 +85,39 @@ class ActiveCholesky {
   std::vector<int> set_;
 };
 
+/// Iterative refinement of the final active set's forces on a fresh
+/// factorisation: removes the bias of the regularisation (eps z) and the
+/// round-off of many factor updates. Kept only if the forces stay
+/// non-negative and the residual drops.
+void polish(const MatX& W, const VecX& q, const std::vector<int>& set, double eps, VecX* z) {
+  const int k = static_cast<int>(set.size());
+  if (k == 0) return;
+  MatX Waa(k, k);
+  VecX qa(k), za(k);
+  for (int i = 0; i < k; ++i) {
+    qa(i) = q(set[i]);
+    za(i) = (*z)(set[i]);
+    for (int j = 0; j < k; ++j) Waa(i, j) = W(set[i], set[j]);
+  }
+  MatX reg = Waa;
+  reg.diagonal().array() += eps;
+  const Eigen::LLT<MatX> llt(reg);
+  if (llt.info() != Eigen::Success) return;
+  VecX best = *z;
+  double best_residual = lcpResidual(W, q, *z);
+  for (int it = 0; it < 3; ++it) {
+    za += llt.solve(-qa - Waa * za);
+    if (za.minCoeff() < 0.0) break;
+    VecX trial = VecX::Zero(q.size());
+    for (int i = 0; i < k; ++i) trial(set[i]) = za(i);
+    const double r = lcpResidual(W, q, trial);
+    if (!(r < best_residual)) break;
+    best = trial;
+    best_residual = r;
+  }
+  *z = best;
+}
+
 LcpStatus statusMethod(const MatX& W, const VecX& q, const LcpOptions& o, VecX* z, LcpStats* st) {
   const int c = static_cast<int>(q.size());
   const double eps = o.regularization * std::max(W.diagonal().maxCoeff(), 0.0);
@@ -129,7 +162,10 @@ LcpStatus statusMethod(const MatX& W, const VecX& q, const LcpOptions& o, VecX* 
     for (int i = 0; i < c; ++i)
       if (!active[i] && w(i) < -o.tolerance && (add < 0 || (murty ? i < add : w(i) < w(add))))
         add = i;
-    if (add < 0) return LcpStatus::kSolved;
+    if (add < 0) {
+      polish(W, q, chol.set(), eps, z);
+      return LcpStatus::kSolved;
+    }
     if (!chol.add(add)) return LcpStatus::kFailed;
     active[add] = 1;
     ++st->activations;

@@ -22,11 +22,15 @@ void addStats(const FreeMotionTimes& t, StepStats* s) {
   s->solve_ms += t.solve_ms;
 }
 
-void addStats(const ContactStats& c, StepStats* s) {
+/// Timings count every attempt (their cost is real); results only accepted ones.
+void addTimes(const ContactStats& c, StepStats* s) {
   s->detection_ms += c.detection_ms;
   s->delassus_ms += c.delassus_ms;
   s->lcp_ms += c.lcp_ms;
   s->correction_ms += c.correction_ms;
+}
+
+void addResults(const ContactStats& c, StepStats* s) {
   s->contacts = c.contacts;
   s->active_contacts = c.active_contacts;
   s->activation_loops = std::max(s->activation_loops, c.activation_loops);
@@ -65,7 +69,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     }
     ContactStats cs;
     const bool solved = resolveContacts(pb, model.contact, &data->contacts, &cs);
-    addStats(cs, &data->stats);
+    addTimes(cs, &data->stats);
     if (!solved) {
       data->last_error = "contacts not solved after " +
                          std::to_string(model.contact.max_activation_loops) +
@@ -73,6 +77,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
                          std::to_string(cs.max_penetration_m * 1e3) + " mm beyond the wall)";
       return StepStatus::kContactsUnsolved;
     }
+    addResults(cs, &data->stats);
   }
   for (size_t i = 0; i < model.devices.size(); ++i) {
     commitMotion(data->workspaces[i].dq, dt, &(*next)[i]);

@@ -1,0 +1,148 @@
+// The contact space at c = 10 ... 400 contacts on a 200-element guidewire:
+//  - the Delassus operator W = H A^-1 H^T from one block solve (ours) against
+//    c separate solves (the naive way);
+//  - LCP solvers on those W: the status method, PGS, Lemke, and Siconos'
+//    Lemke and pivoting solvers (its Newton-min needed seconds at c = 10 on
+//    these nearly dependent contacts and is left out).
+// Counters: c and the natural-map residual reached.
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <random>
+
+#include "endovascular_sim/contact/contact_point.h"
+#include "endovascular_sim/contact/delassus.h"
+#include "endovascular_sim/contact/lcp.h"
+#include "endovascular_sim/mechanics/implicit_euler.h"
+#include "siconos_oracle.h"
+
+namespace evsim {
+namespace {
+
+struct ContactSpace {
+  DeviceModel model;
+  DeviceState state;
+  DeviceWorkspace ws;
+  std::vector<ContactRow> rows;
+  MatX Ht;  // free DOFs x c (dense, for the naive way)
+  MatX W;
+  VecX q;
+};
+
+/// c contacts at random points of a bent 200-element nitinol wire, normals
+/// across the wire, penetrations up to 50 um (a third of them separating).
+ContactSpace& space(int c) {
+  static std::map<int, ContactSpace> cache;
+  auto it = cache.find(c);
+  if (it != cache.end()) return it->second;
+  ContactSpace& s = cache[c];
+  BeamSection sec;
+  sec.young_modulus = 60e9;
+  sec.shear_modulus = 60e9 / 2.66;
+  sec.outer_radius = 1.78e-4;
+  sec.density = 6450;
+  s.model = buildDeviceModel(straightDeviceSpec("wire", sec, 0.4, 200));
+  Introducer intro;
+  s.state = placeDevice(s.model, intro, s.model.length - 0.002, 0.0);
+  for (int i = 0; i < s.model.num_nodes; ++i) s.state.position[i].y() += 0.01 * std::sin(0.03 * i);
+  computeFreeMotion(s.model, intro, Vec3::Zero(), 1e-3, s.state, &s.ws);
+  std::mt19937 rng(c);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int first = s.ws.first_free_node, n = s.ws.cholesky.size();
+  s.Ht = MatX::Zero(n, c);
+  s.q.resize(c);
+  for (int j = 0; j < c; ++j) {
+    const SamplePoint p{first + static_cast<int>(u(rng) * (s.model.num_nodes - 2 - first)), u(rng),
+                        1.78e-4};
+    const Vec3 t = s.state.rotation[p.element] * Vec3::UnitX();
+    const Vec3 n_dir = t.unitOrthogonal();
+    const double a = 2 * M_PI * u(rng);
+    const Vec3 normal = Eigen::AngleAxisd(a, t) * n_dir;
+    const Row12 row = contactRow(s.model, s.state, p, normal);
+    s.rows.push_back({6 * (p.element - first), row});
+    for (int half = 0; half < 2; ++half)
+      s.Ht.col(j).segment<6>(6 * (p.element + half - first)) = row.segment<6>(6 * half).transpose();
+    s.q(j) = u(rng) < 0.33 ? 1e-5 * u(rng) : -5e-5 * u(rng);
+  }
+  MatX Y;
+  delassusOperator(s.ws.cholesky, s.rows, &Y, &s.W);
+  return s;
+}
+
+void BM_DelassusBlockSolve(benchmark::State& st) {
+  ContactSpace& s = space(static_cast<int>(st.range(0)));
+  MatX Y, W;
+  for (auto _ : st) {
+    delassusOperator(s.ws.cholesky, s.rows, &Y, &W);
+    benchmark::DoNotOptimize(W.data());
+  }
+  st.counters["c"] = static_cast<double>(st.range(0));
+}
+
+void BM_DelassusSeparateSolves(benchmark::State& st) {
+  ContactSpace& s = space(static_cast<int>(st.range(0)));
+  const int c = static_cast<int>(st.range(0));
+  MatX Y(s.Ht.rows(), c), W;
+  for (auto _ : st) {
+    for (int j = 0; j < c; ++j) {
+      VecX col = s.Ht.col(j);
+      s.ws.cholesky.solveInPlace(&col);
+      Y.col(j) = col;
+    }
+    W.noalias() = s.Ht.transpose() * Y;
+    benchmark::DoNotOptimize(W.data());
+  }
+  st.counters["c"] = c;
+}
+
+void runOurs(benchmark::State& st, LcpSolver solver, int max_iterations) {
+  ContactSpace& s = space(static_cast<int>(st.range(0)));
+  LcpOptions o;
+  o.solver = solver;
+  o.max_iterations = max_iterations;
+  VecX z;
+  LcpStats ls;
+  for (auto _ : st) {
+    solveLcp(s.W, s.q, o, &z, &ls);
+    benchmark::DoNotOptimize(z.data());
+  }
+  st.counters["c"] = static_cast<double>(st.range(0));
+  st.counters["residual"] = ls.residual;
+  st.counters["iterations"] = ls.iterations;
+}
+
+void BM_StatusMethod(benchmark::State& st) { runOurs(st, LcpSolver::kStatusMethod, 0); }
+void BM_Lemke(benchmark::State& st) { runOurs(st, LcpSolver::kLemke, 0); }
+void BM_Pgs100(benchmark::State& st) { runOurs(st, LcpSolver::kPgs, 100); }
+void BM_Pgs1000(benchmark::State& st) { runOurs(st, LcpSolver::kPgs, 1000); }
+
+void runSiconos(benchmark::State& st, int solver) {
+  ContactSpace& s = space(static_cast<int>(st.range(0)));
+  VecX z;
+  int info = 0;
+  for (auto _ : st) {
+    info = test::siconosLcp(s.W, s.q, solver, 1e-12, &z, 100000);
+    benchmark::DoNotOptimize(z.data());
+  }
+  st.counters["c"] = static_cast<double>(st.range(0));
+  st.counters["residual"] = lcpResidual(s.W, s.q, z);
+  st.counters["info"] = info;
+}
+
+void BM_SiconosLemke(benchmark::State& st) { runSiconos(st, SICONOS_LCP_LEMKE); }
+void BM_SiconosPivot(benchmark::State& st) { runSiconos(st, SICONOS_LCP_PIVOT); }
+
+
+#define CONTACT_SIZES ->Arg(10)->Arg(50)->Arg(100)->Arg(200)->Arg(400)->Unit(benchmark::kMicrosecond)
+BENCHMARK(BM_DelassusBlockSolve) CONTACT_SIZES;
+BENCHMARK(BM_DelassusSeparateSolves) CONTACT_SIZES;
+BENCHMARK(BM_StatusMethod) CONTACT_SIZES;
+BENCHMARK(BM_Lemke) CONTACT_SIZES;
+BENCHMARK(BM_Pgs100) CONTACT_SIZES;
+BENCHMARK(BM_Pgs1000) CONTACT_SIZES;
+BENCHMARK(BM_SiconosLemke) CONTACT_SIZES;
+BENCHMARK(BM_SiconosPivot) CONTACT_SIZES;
+
+
+}  // namespace
+}  // namespace evsim
