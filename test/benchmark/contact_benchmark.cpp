@@ -59,7 +59,10 @@ ContactSpace& space(int c) {
     const double a = 2 * M_PI * u(rng);
     const Vec3 normal = Eigen::AngleAxisd(a, t) * n_dir;
     const Row12 row = contactRow(s.model, s.state, p, normal);
-    s.rows.push_back({6 * (p.element - first), row});
+    ContactRow cr;
+    cr.offset[0] = 6 * (p.element - first);
+    cr.h[0] = row;
+    s.rows.push_back(cr);
     for (int half = 0; half < 2; ++half)
       s.Ht.col(j).segment<6>(6 * (p.element + half - first)) = row.segment<6>(6 * half).transpose();
     s.q(j) = u(rng) < 0.33 ? 1e-5 * u(rng) : -5e-5 * u(rng);
@@ -132,8 +135,8 @@ void runSiconos(benchmark::State& st, int solver) {
 void BM_SiconosLemke(benchmark::State& st) { runSiconos(st, SICONOS_LCP_LEMKE); }
 void BM_SiconosPivot(benchmark::State& st) { runSiconos(st, SICONOS_LCP_PIVOT); }
 
-
-#define CONTACT_SIZES ->Arg(10)->Arg(50)->Arg(100)->Arg(200)->Arg(400)->Unit(benchmark::kMicrosecond)
+#define CONTACT_SIZES \
+  ->Arg(10)->Arg(50)->Arg(100)->Arg(200)->Arg(400)->Unit(benchmark::kMicrosecond)
 BENCHMARK(BM_DelassusBlockSolve) CONTACT_SIZES;
 BENCHMARK(BM_DelassusSeparateSolves) CONTACT_SIZES;
 BENCHMARK(BM_StatusMethod) CONTACT_SIZES;
@@ -142,7 +145,6 @@ BENCHMARK(BM_Pgs100) CONTACT_SIZES;
 BENCHMARK(BM_Pgs1000) CONTACT_SIZES;
 BENCHMARK(BM_SiconosLemke) CONTACT_SIZES;
 BENCHMARK(BM_SiconosPivot) CONTACT_SIZES;
-
 
 }  // namespace
 }  // namespace evsim

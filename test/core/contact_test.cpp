@@ -5,6 +5,7 @@
 
 #include "endovascular_sim/contact/contact_solver.h"
 #include "endovascular_sim/mechanics/device_model.h"
+#include "endovascular_sim/mechanics/so3.h"
 #include "endovascular_sim/sim/simulation.h"
 #include "test_helpers.h"
 
@@ -120,6 +121,78 @@ TEST(ContactOptions, OutOfRangeAreRefused) {
   o = ContactOptions{};
   o.max_subdivisions = 40;
   EXPECT_NE(validateContactOptions(o).find("max_subdivisions"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace evsim
+
+namespace evsim {
+namespace {
+
+// Device-device contact: a released wire lying across two rigid parallel
+// wires (held in their introducers; no vessel at all), under gravity:
+//
+//        A (released, along y)
+//   ===========================
+//      ||                ||
+//     B1 (along x)      B2 (along x, 30 mm apart; frictionless, so they
+//                                     must be level, or A slides off)
+TEST(DeviceContact, WireRestingAcrossTwoWiresIsCarriedByThem) {
+  SceneModel m;
+  m.time_step = 1e-3;
+  m.effects.gravity = true;
+  m.gravity = Vec3(0, 0, -9.81);
+  m.contact.device_contact = true;
+  m.contact.contact_spacing = 1e-3;
+  m.contact.root.penetration_tolerance = 1e-12;
+  m.contact.penetration_tolerance = 1e-9;
+  const BeamSection s = test::wireSection(60e9, 2e-4);
+  DeviceSpec top = straightDeviceSpec("top", s, 0.06, 60);
+  top.rayleigh_mass = 20.0;
+  for (int k = 0; k < 3; ++k) {
+    DeviceSpec spec = k == 0 ? top : straightDeviceSpec("rail" + std::to_string(k), s, 0.06, 30);
+    spec.rayleigh_mass = 20.0;
+    m.devices.push_back(buildDeviceModel(spec));
+    Introducer intro;
+    if (k == 0) {  // along y, 5 um above the rails
+      intro.access_point = Vec3(0.0, -0.03, 4e-4 + 5e-6);
+      intro.frame = expSO3(Vec3(0, 0, M_PI / 2));
+    } else {  // along x from -30 to +30 mm, at y = -15 mm and +15 mm, all held
+      intro.access_point = Vec3(0.03, k == 1 ? -0.015 : 0.015, 0.0);
+    }
+    m.introducers.push_back(intro);
+    m.initial_inserted_length.push_back(k == 0 ? 0.06 : 0.0);
+    m.initial_rotation.push_back(0.0);
+    m.samples.push_back(sampleDevice(m.devices.back(), m.contact.contact_spacing));
+  }
+  SimData d = makeData(m);
+  d.devices[0].released = true;
+  double weight = 0.0;
+  for (double mass : m.devices[0].node_mass) weight += mass * 9.81;
+  double average = 0.0;
+  const int settle = 2000, window = 500;
+  int pairs = 0;
+  for (int k = 0; k < settle + window; ++k) {
+    ASSERT_EQ(step(m, &d), StepStatus::kOk) << d.last_error;
+    EXPECT_LE(d.stats.max_penetration_m, m.contact.penetration_tolerance) << "step " << k;
+    if (k < settle) continue;
+    double up = 0.0;  // vertical force on the top wire from the rails
+    for (const Contact& c : d.contacts) {
+      if (c.other_device < 0 || c.force <= 0.0) continue;
+      ++pairs;
+      EXPECT_EQ(c.device == 0 || c.other_device == 0, true);
+      up += (c.device == 0 ? 1.0 : -1.0) * c.force * c.normal.z();
+    }
+    average += up / window;
+  }
+  std::printf("[ metric   ] wire across two wires: mean support %.9e N, weight %.9e N\n", average,
+              weight);
+  EXPECT_GT(pairs, 0);
+  EXPECT_NEAR(average, weight, 1e-6 * weight);
+  // It rests on the rails (at 0.4 mm, the sum of the radii) and its free
+  // ends hang below them.
+  EXPECT_NEAR(d.devices[0].position[15].z(), 4e-4, 1e-8);
+  EXPECT_LT(d.devices[0].position[0].z(), d.devices[0].position[15].z());
 }
 
 }  // namespace

@@ -8,6 +8,12 @@
 //             violation becomes a new contact; a contact violated again after
 //             its update gets a second plane (concave walls: updates alone can
 //             oscillate, an added plane only shrinks the admissible set)
+//   pairs     with the effect 'device_contact', device points closer than
+//             the sum of their radii (same device: more than a few radii
+//             apart along it) are pair contacts in the same LCP
+//   pairs     with the effect 'device_contact', device points closer than
+//             the sum of their radii (same device: more than a few radii
+//             apart along it) are pair contacts in the same LCP
 //   until     no point lies beyond the wall by more than the tolerance, or
 //             N loops (the caller then subdivides the time step).
 //
@@ -34,11 +40,16 @@ struct ContactOptions {
   double contact_spacing{1e-3};        // sample points along elements [m]
   double penetration_tolerance{1e-6};  // a point beyond the wall by more is violated [m]
   RootOptions root;                    // first-root search
+  bool device_contact{false};          // effect 'device_contact': pairs of device points
 };
 
 /// Why the options are out of range ("" when they are valid).
 std::string validateContactOptions(const ContactOptions& options);
 
+/// A contact with the wall (other_device < 0): n . (p - point) >= 0; or
+/// between two device points (a coil touching itself, a wire in a
+/// catheter): n . (p - p_other) - (r + r_other) >= 0, n from the other point
+/// to this one, point = the other point when detected.
 struct Contact {
   int device{0};
   int sample{0};              // index into the device's sample points
@@ -46,6 +57,8 @@ struct Contact {
   Vec3 normal{Vec3::Zero()};  // unit, into the free space: the tangent plane
   double gap{0.0};            // n . (p - point) at the end of the step [m]
   double force{0.0};          // lambda [N]
+  int other_device{-1};       // pair contacts: the other point
+  int other_sample{-1};
 };
 
 struct ContactStats {

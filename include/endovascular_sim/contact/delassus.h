@@ -14,12 +14,14 @@
 
 namespace evsim {
 
-/// A row of H restricted to one device: its first node's offset among the
-/// free DOFs (6 * (node - first_free), may be negative for a held node) and
-/// its 12 coefficients.
+/// A row of H restricted to one device: one or two parts (a self contact
+/// touches two elements of the device), each the offset of its first node
+/// among the free DOFs (6 * (node - first_free), negative for a held node)
+/// and its 12 coefficients.
 struct ContactRow {
-  int offset{0};
-  Row12 h;
+  int parts{1};
+  int offset[2]{0, 0};
+  Row12 h[2]{Row12::Zero(), Row12::Zero()};
 };
 
 /// Y = A^-1 H^T (free DOFs x c) and W = H Y (c x c).

@@ -1,10 +1,13 @@
 #include "endovascular_sim/contact/contact_solver.h"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <sstream>
+#include <unordered_map>
 
 #include "endovascular_sim/contact/delassus.h"
 #include "endovascular_sim/core/load_error.h"
@@ -37,6 +40,107 @@ double depthOf(const FieldSample& g) {
   if (g.value >= 0.0) return 0.0;
   const double n = g.gradient.norm();
   return n > 0.0 ? -g.value / n : 0.0;
+}
+
+/// A sample point in a configuration (held ones are kinematic obstacles).
+struct PointRef {
+  bool free;
+  int device, sample, element;
+  double s;  // material coordinate [m]
+  Vec3 p;    // [m]
+  double r;  // [m]
+};
+
+struct Pair {
+  int a, b;  // indices into the point list
+  double distance;
+};
+
+/// Unit tangent of the device axis at a sample point.
+Vec3 sampleTangent(const DeviceState& x, const SamplePoint& s) {
+  const Vec3 t = (1.0 - s.xi) * (x.rotation[s.element] * Vec3::UnitX()) +
+                 s.xi * (x.rotation[s.element + 1] * Vec3::UnitX());
+  return t.normalized();
+}
+
+/// Normal of a contact between two device points, from b to a: across both
+/// axes (crossed cylinders: t_a x t_b), or, for nearly parallel axes, the
+/// part of p_a - p_b across t_a. Point-to-point normals would make each
+/// contact a pair of spheres, which roll off each other.
+Vec3 pairNormal(const Vec3& pa, const Vec3& ta, const Vec3& pb, const Vec3& tb) {
+  const Vec3 d = pa - pb;
+  const Vec3 c = ta.cross(tb);
+  if (c.norm() > 0.1) {
+    const Vec3 n = c.normalized();
+    return n.dot(d) >= 0.0 ? n : Vec3(-n);
+  }
+  const Vec3 across = d - d.dot(ta) * ta;
+  return across.norm() > 0.0 ? Vec3(across.normalized()) : d.normalized();
+}
+
+std::vector<PointRef> freePoints(const std::vector<DeviceModel>& devices,
+                                 const std::vector<DeviceState>& x,
+                                 const std::vector<std::vector<SamplePoint>>& samples,
+                                 const std::vector<DeviceWorkspace>& ws) {
+  std::vector<PointRef> pts;
+  for (size_t d = 0; d < devices.size(); ++d)
+    for (size_t k = 0; k < samples[d].size(); ++k) {
+      const SamplePoint& sp = samples[d][k];
+      const double s =
+          devices[d].node_s[sp.element] + sp.xi * devices[d].elements[sp.element].length;
+      pts.push_back({isFree(sp, ws[d].first_free_node), static_cast<int>(d), static_cast<int>(k),
+                     sp.element, s, samplePosition(devices[d], x[d], sp), sp.radius});
+    }
+  return pts;
+}
+
+/// Pairs of points, at least one of them free, closer than the sum of their
+/// radii plus `margin`, from a hash of cells. On one device only points more than 2 (r_a + r_b)
+/// plus two element lengths apart along it count (neighbours along a device always touch). Per pair
+/// of elements the closest pair only.
+std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
+                            const std::vector<PointRef>& pts, double margin) {
+  double rmax = 0.0;
+  for (const auto& q : pts) rmax = std::max(rmax, q.r);
+  const double cell = 2.0 * rmax + margin;
+  auto cellKey = [cell](const Vec3& p, int dx, int dy, int dz) {
+    const int64_t x = static_cast<int64_t>(std::floor(p.x() / cell)) + dx + (1 << 20);
+    const int64_t y = static_cast<int64_t>(std::floor(p.y() / cell)) + dy + (1 << 20);
+    const int64_t z = static_cast<int64_t>(std::floor(p.z() / cell)) + dz + (1 << 20);
+    return x << 42 | y << 21 | z;
+  };
+  std::unordered_map<int64_t, std::vector<int>> grid;
+  for (int i = 0; i < static_cast<int>(pts.size()); ++i)
+    grid[cellKey(pts[i].p, 0, 0, 0)].push_back(i);
+  std::map<std::array<int, 4>, Pair> best;  // (device a, element a, device b, element b)
+  for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
+    const PointRef& a = pts[i];
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto it = grid.find(cellKey(a.p, dx, dy, dz));
+          if (it == grid.end()) continue;
+          for (int j : it->second) {
+            if (j <= i) continue;
+            const PointRef& b = pts[j];
+            if (!a.free && !b.free) continue;
+            const double dist = (a.p - b.p).norm();
+            if (dist >= a.r + b.r + margin || dist == 0.0) continue;
+            if (a.device == b.device) {
+              const double along = std::abs(a.s - b.s);
+              const double le = std::max(devices[a.device].elements[a.element].length,
+                                         devices[b.device].elements[b.element].length);
+              if (along <= 2.0 * (a.r + b.r) + 2.0 * le) continue;
+            }
+            const std::array<int, 4> k{a.device, a.element, b.device, b.element};
+            const auto found = best.find(k);
+            if (found == best.end() || dist < found->second.distance) best[k] = {i, j, dist};
+          }
+        }
+  }
+  std::vector<Pair> out;
+  for (const auto& kv : best) out.push_back(kv.second);
+  return out;
 }
 
 }  // namespace
@@ -118,8 +222,8 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   for (size_t d = 0; d < nd; ++d) dq_free[d] = dq[d] = ws[d].dq;
   const std::vector<DeviceState> xf = moved(start, dq_free);
   std::vector<std::vector<int>> contact_of(nd);  // sample -> contact index or -1
-  for (size_t d = 0; d < nd; ++d) {
-    contact_of[d].assign(samples[d].size(), -1);
+  for (size_t d = 0; d < nd; ++d) contact_of[d].assign(samples[d].size(), -1);
+  for (size_t d = 0; d < nd && pb.surface; ++d) {
     const int first_free = ws[d].first_free_node;
     // Per element, the deepest crossing at x_f only: the activation loop adds
     // any other point of the element that stays beyond the wall.
@@ -158,6 +262,22 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     }
     flush();
   }
+  // Device points closer than the sum of their radii at x_f.
+  std::map<std::array<int, 4>, int> pair_contact;  // (device, sample, device, sample) -> contact
+  auto normalOf = [&](const std::vector<DeviceState>& x, const PointRef& a, const PointRef& b) {
+    return pairNormal(a.p, sampleTangent(x[a.device], samples[a.device][a.sample]), b.p,
+                      sampleTangent(x[b.device], samples[b.device][b.sample]));
+  };
+  auto addPair = [&](const PointRef& a, const PointRef& b, const Vec3& n) {
+    pair_contact[{a.device, a.sample, b.device, b.sample}] = static_cast<int>(contacts->size());
+    Contact ct{a.device, a.sample, b.p, n, 0, 0, b.device, b.sample};
+    contacts->push_back(ct);
+  };
+  if (o.device_contact) {
+    const std::vector<PointRef> pts = freePoints(devices, xf, samples, ws);
+    for (const Pair& pr : findPairs(devices, pts, 0.0))
+      addPair(pts[pr.a], pts[pr.b], normalOf(xf, pts[pr.a], pts[pr.b]));
+  }
   st->detection_ms += msSince(t0);
 
   bool solved = contacts->empty();
@@ -171,28 +291,56 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     t0 = Clock::now();
     MatX W = MatX::Zero(c, c);
     VecX q(c);
-    std::vector<std::vector<int>> of_device(nd);
-    std::vector<Row12> rows(c);
+    // Parts of each row per device: (contact, sample, sign).
+    struct Part {
+      int contact, sample;
+      double sign;
+    };
+    std::vector<std::vector<Part>> parts(nd);
     for (int i = 0; i < c; ++i) {
       const Contact& ct = (*contacts)[i];
       const SamplePoint& s = samples[ct.device][ct.sample];
-      of_device[ct.device].push_back(i);
-      rows[i] = contactRow(devices[ct.device], xf[ct.device], s, ct.normal);
-      q(i) = ct.normal.dot(samplePosition(devices[ct.device], xf[ct.device], s) - ct.point);
+      const Vec3 p = samplePosition(devices[ct.device], xf[ct.device], s);
+      parts[ct.device].push_back({i, ct.sample, 1.0});
+      if (ct.other_device < 0) {
+        q(i) = ct.normal.dot(p - ct.point);
+      } else {
+        const SamplePoint& so = samples[ct.other_device][ct.other_sample];
+        const Vec3 po = samplePosition(devices[ct.other_device], xf[ct.other_device], so);
+        q(i) = ct.normal.dot(p - po) - (s.radius + so.radius);
+        parts[ct.other_device].push_back({i, ct.other_sample, -1.0});
+      }
     }
-    std::vector<MatX> Y(nd);  // A^-1 H^T per device (free DOFs x its contacts)
+    std::vector<std::vector<int>> of_device(nd);  // contacts with a part on each device
+    std::vector<MatX> Y(nd);                      // A^-1 H^T per device (free DOFs x its contacts)
     for (size_t d = 0; d < nd; ++d) {
-      const auto& idx = of_device[d];
-      if (idx.empty()) continue;
-      std::vector<ContactRow> device_rows(idx.size());
-      for (size_t j = 0; j < idx.size(); ++j) {
-        const SamplePoint& s = samples[d][(*contacts)[idx[j]].sample];
-        device_rows[j] = {6 * (s.element - ws[d].first_free_node), rows[idx[j]]};
+      if (parts[d].empty()) continue;
+      std::vector<ContactRow> device_rows;
+      std::map<int, int> column;  // contact -> column
+      for (const Part& pt : parts[d]) {
+        const SamplePoint& s = samples[d][pt.sample];
+        const Row12 h = pt.sign * contactRow(devices[d], xf[d], s, (*contacts)[pt.contact].normal);
+        const int offset = 6 * (s.element - ws[d].first_free_node);
+        const auto it = column.find(pt.contact);
+        if (it == column.end()) {
+          column[pt.contact] = static_cast<int>(device_rows.size());
+          of_device[d].push_back(pt.contact);
+          ContactRow row;
+          row.offset[0] = offset;
+          row.h[0] = h;
+          device_rows.push_back(row);
+        } else {  // a self contact: its second part on the same device
+          ContactRow& row = device_rows[it->second];
+          row.offset[1] = offset;
+          row.h[1] = h;
+          row.parts = 2;
+        }
       }
       MatX Wd;
       delassusOperator(ws[d].cholesky, device_rows, &Y[d], &Wd);
+      const auto& idx = of_device[d];
       for (size_t a = 0; a < idx.size(); ++a)
-        for (size_t b = 0; b < idx.size(); ++b) W(idx[a], idx[b]) = Wd(a, b);
+        for (size_t b = 0; b < idx.size(); ++b) W(idx[a], idx[b]) += Wd(a, b);
     }
     st->delassus_ms += msSince(t0);
 
@@ -226,7 +374,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     // --- Re-detection on x: plane updates and new contacts ------------------
     t0 = Clock::now();
     solved = true;
-    for (size_t d = 0; d < nd; ++d) {
+    for (size_t d = 0; d < nd && pb.surface; ++d) {
       const int first_free = ws[d].first_free_node;
       for (size_t k = 0; k < samples[d].size(); ++k) {
         const SamplePoint& s = samples[d][k];
@@ -261,18 +409,44 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         updated.push_back(0);
       }
     }
+    if (o.device_contact) {
+      const std::vector<PointRef> pts = freePoints(devices, x, samples, ws);
+      for (const Pair& pr : findPairs(devices, pts, -o.penetration_tolerance)) {
+        solved = false;
+        const PointRef &a = pts[pr.a], &b = pts[pr.b];
+        const auto it = pair_contact.find({a.device, a.sample, b.device, b.sample});
+        if (it != pair_contact.end() && !updated[it->second]) {
+          Contact& ct = (*contacts)[it->second];  // the pair's normal at x
+          ct.normal = normalOf(x, a, b);
+          ct.point = b.p;
+          updated[it->second] = 1;
+        } else {
+          addPair(a, b, normalOf(x, a, b));
+          updated.push_back(0);
+        }
+      }
+    }
     st->detection_ms += msSince(t0);
   }
 
   // Final gaps, forces, deepest point.
   for (auto& ct : *contacts) {
     const SamplePoint& s = samples[ct.device][ct.sample];
-    ct.gap = ct.normal.dot(samplePosition(devices[ct.device], x[ct.device], s) - ct.point);
+    const Vec3 p = samplePosition(devices[ct.device], x[ct.device], s);
+    if (ct.other_device < 0) {
+      ct.gap = ct.normal.dot(p - ct.point);
+    } else {
+      const SamplePoint& so = samples[ct.other_device][ct.other_sample];
+      const Vec3 po = samplePosition(devices[ct.other_device], x[ct.other_device], so);
+      ct.gap = ct.normal.dot(p - po) - (s.radius + so.radius);
+      st->max_penetration_m =
+          std::max(st->max_penetration_m, -((p - po).norm() - s.radius - so.radius));
+    }
     if (ct.force > 0.0) ++st->active_contacts;
   }
   for (size_t d = 0; d < nd; ++d) {
     for (const SamplePoint& s : samples[d]) {
-      if (!isFree(s, ws[d].first_free_node)) continue;
+      if (!pb.surface || !isFree(s, ws[d].first_free_node)) continue;
       const Vec3 p = samplePosition(devices[d], x[d], s);
       st->max_penetration_m =
           std::max(st->max_penetration_m, depthOf(pb.surface->evaluate(p, s.radius, pb.motion)));

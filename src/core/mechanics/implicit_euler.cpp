@@ -65,7 +65,11 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
     ws->rhs.head<6>() -= A.upper[held].transpose() * ws->dq.segment<6>(6 * held);
   if (times) times->assembly_ms = msSince(t0);
 
-  if (nf == 0) return true;
+  if (nf == 0) {
+    ws->first_free_node = first_free;
+    ws->cholesky.analyze(0, {}, {});
+    return true;
+  }
   const auto t1 = Clock::now();
   if (first_free != ws->first_free_node || ws->pattern.size != 6 * nf) {
     ws->pattern.build(n, first_free);

@@ -235,7 +235,7 @@ ScriptedCommand readCommand(const YamlReader& r, const YAML::Node& n, int index,
 }  // namespace
 
 const std::vector<std::string>& knownEffects() {
-  static const std::vector<std::string> effects = {"gravity", "vessel_motion"};
+  static const std::vector<std::string> effects = {"gravity", "vessel_motion", "device_contact"};
   return effects;
 }
 
@@ -277,6 +277,8 @@ SceneSpec loadSceneFile(const std::string& path) {
   const fs::path scene_dir = fs::path(path).parent_path();
   if (root["vessels"]) s.vessels = readVessels(r, root["vessels"], scene_dir);
   if (root["contact"]) s.contact = readContact(r, root["contact"]);
+  s.contact.device_contact =
+      std::find(s.effects.begin(), s.effects.end(), "device_contact") != s.effects.end();
   const bool moves =
       std::find(s.effects.begin(), s.effects.end(), "vessel_motion") != s.effects.end();
   if (moves && s.vessels.motion.empty())

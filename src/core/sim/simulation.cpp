@@ -55,7 +55,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     addStats(t, &data->stats);
   }
   data->contacts.clear();
-  if (model.surface) {
+  if (model.surface || model.contact.device_contact) {
     ContactProblem pb;
     pb.devices = &model.devices;
     pb.start = next;
