@@ -6,6 +6,6 @@ set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 bash "$repo/scripts/setup.sh"
 bash "$repo/scripts/build.sh" -j2
-scene=${1:-free_insertion}
+scene=${1:-carotid}
 shift || true
 exec "$repo/build/ws/devel/lib/endovascular_sim/evsim" run "$scene" --steps 5000 "$@"
