@@ -374,6 +374,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     // --- Re-detection on x: plane updates and new contacts ------------------
     t0 = Clock::now();
     solved = true;
+    double deepest = 0.0;  // over all points at x: the step's penetration if this is the last loop
     for (size_t d = 0; d < nd && pb.surface; ++d) {
       const int first_free = ws[d].first_free_node;
       for (size_t k = 0; k < samples[d].size(); ++k) {
@@ -381,6 +382,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         if (!isFree(s, first_free)) continue;
         const Vec3 p = samplePosition(devices[d], x[d], s);
         const FieldSample g = pb.surface->evaluate(p, s.radius, pb.motion);
+        deepest = std::max(deepest, depthOf(g));
         if (depthOf(g) <= o.penetration_tolerance) continue;
         solved = false;
         SurfacePoint plane = projectToSurface(*pb.surface, p, s.radius, pb.motion, 0.01, o.root);
@@ -409,6 +411,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         updated.push_back(0);
       }
     }
+    st->max_penetration_m = deepest;
     if (o.device_contact) {
       const std::vector<PointRef> pts = freePoints(devices, x, samples, ws);
       for (const Pair& pr : findPairs(devices, pts, -o.penetration_tolerance)) {
@@ -444,13 +447,9 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     }
     if (ct.force > 0.0) ++st->active_contacts;
   }
+  // The deepest wall penetration was measured by the last loop's pass over
+  // the points at x (without contacts, no point crossed: 0).
   for (size_t d = 0; d < nd; ++d) {
-    for (const SamplePoint& s : samples[d]) {
-      if (!pb.surface || !isFree(s, ws[d].first_free_node)) continue;
-      const Vec3 p = samplePosition(devices[d], x[d], s);
-      st->max_penetration_m =
-          std::max(st->max_penetration_m, depthOf(pb.surface->evaluate(p, s.radius, pb.motion)));
-    }
     ws[d].dq = dq[d];
   }
   return solved;
