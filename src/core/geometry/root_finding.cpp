@@ -38,6 +38,10 @@ SurfacePoint firstSignChange(const ImplicitSurface& field, const Vec3& p0, const
     // form that stays accurate as H -> 0 (a plane): 2g / (sqrt(gp^2 + 2Hg) - gp).
     const double den = std::sqrt(gp * gp + 2.0 * H * g) - gp;
     const double step = den > 0.0 ? 2.0 * g / den : 2.0;
+    if (s + step >= 1.0) {  // certified to the end: nothing beyond the tolerance
+      none.iterations = it;
+      return none;
+    }
     const double next = std::min(1.0, s + std::max(step, 2.0 * tol_s));
     const FieldSample nf = field.evaluate(p0 + next * d, r, m);
     const double v = sigma * nf.value;
