@@ -64,15 +64,17 @@ class Loader : public ::testing::Test {
     return path;
   }
 
-  /// Writes the device with `from` replaced by `to`, loads it, returns the error.
-  LoadError deviceError(const std::string& from, const std::string& to) {
-    std::string text = kDevice;
+  /// Writes `text` with `from` replaced by `to` as `name`, loads it with
+  /// `load`, returns the error.
+  template <typename Load>
+  LoadError errorFor(std::string text, const std::string& name, const std::string& from,
+                     const std::string& to, Load load) {
     const size_t at = text.find(from);
     EXPECT_NE(at, std::string::npos) << from;
     text.replace(at, from.size(), to);
-    const std::string path = write("wire.urdf", text);
+    const std::string path = write(name, text);
     try {
-      loadDeviceFile(path);
+      load(path);
     } catch (const LoadError& e) {
       return e;
     }
@@ -80,20 +82,14 @@ class Loader : public ::testing::Test {
     return LoadError("", 0, "", "");
   }
 
+  LoadError deviceError(const std::string& from, const std::string& to) {
+    return errorFor(kDevice, "wire.urdf", from, to,
+                    [](const std::string& p) { loadDeviceFile(p); });
+  }
+
   LoadError sceneError(const std::string& from, const std::string& to) {
     write("wire.urdf", kDevice);
-    std::string text = kScene;
-    const size_t at = text.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    text.replace(at, from.size(), to);
-    const std::string path = write("scene.yaml", text);
-    try {
-      loadSceneFile(path);
-    } catch (const LoadError& e) {
-      return e;
-    }
-    ADD_FAILURE() << "no error for " << to;
-    return LoadError("", 0, "", "");
+    return errorFor(kScene, "scene.yaml", from, to, [](const std::string& p) { loadSceneFile(p); });
   }
 
   fs::path dir_;

@@ -60,7 +60,6 @@ class VesselField : public ImplicitSurface {
   double iso() const { return iso_; }
   double alpha() const { return alpha_; }
   int numSegments() const { return static_cast<int>(segments_.size()); }
-  int numSpheres() const { return static_cast<int>(spheres_.size()); }
   const Eigen::AlignedBox3d& bounds() const { return bounds_; }
   double cellSize() const { return cell_; }
   /// Primitives listed in the grid cell of p (diagnostics, benchmarks).

@@ -26,7 +26,6 @@ class SparseCholesky {
   void solveInPlace(VecX* x);
 
   int size() const { return n_; }
-  bool analyzed() const { return factor_ != nullptr; }
 
  private:
   void solveBuffer(const double* in, int rows, int cols, double* out);
