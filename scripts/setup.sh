@@ -19,6 +19,14 @@ packages=(
   ros-visualization-msgs libvisualization-msgs-dev
   ros-std-srvs libstd-srvs-dev
   libtf2-ros-dev libtf2-dev libtf2-msgs-dev ros-tf2-msgs
+  ros-diagnostic-msgs libdiagnostic-msgs-dev
+  libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
+  # Python side of the rostests (message bindings, rosservice, rosnode)
+  python3-genpy python3-std-msgs python3-geometry-msgs python3-nav-msgs
+  python3-sensor-msgs python3-visualization-msgs python3-std-srvs
+  python3-diagnostic-msgs python3-tf2-ros python3-rosservice python3-rosnode rosbash
+  # rviz, and a virtual display to screenshot it
+  rviz xvfb xauth libgl1-mesa-dri imagemagick
   # plots and pictures
   python3-matplotlib python3-numpy
   # independent LCP oracle for the contact tests

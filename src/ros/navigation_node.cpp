@@ -1,72 +1,207 @@
 #include "endovascular_sim/ros/navigation_node.h"
 
-#include <nav_msgs/Path.h>
-
 #include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
 
-#include "endovascular_sim/StepStats.h"
 #include "endovascular_sim/core/load_error.h"
 
 namespace evsim {
+namespace {
 
-NavigationNode::NavigationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
-    : nh_(nh), private_nh_(private_nh) {
-  readParameters();
-  std::string message;
-  if (!loadSceneNamed(scene_name_, &message)) throw std::runtime_error(message);
-  stats_pub_ = nh_.advertise<endovascular_sim::StepStats>("stats", 10);
-  command_sub_ = nh_.subscribe("command", 10, &NavigationNode::onCommand, this);
-  load_srv_ = nh_.advertiseService("load_scene", &NavigationNode::onLoadScene, this);
-  list_srv_ = nh_.advertiseService("list_scenes", &NavigationNode::onListScenes, this);
-  timer_ = nh_.createTimer(ros::Duration(1.0 / rate_hz_), &NavigationNode::onTimer, this);
+/// Reads ~name when set; a value of the wrong type is reported, not ignored.
+template <typename T>
+void readParam(const ros::NodeHandle& nh, const std::string& name, T* value,
+               std::vector<std::string>* problems, const char* expected) {
+  if (!nh.hasParam(name)) return;
+  if (!nh.getParam(name, *value)) problems->push_back("~" + name + " must be " + expected);
 }
 
-void NavigationNode::readParameters() {
-  private_nh_.param<std::string>("scene", scene_name_, "free_insertion");
-  private_nh_.param<std::string>("frame_id", frame_id_, "world");
-  private_nh_.param("rate", rate_hz_, 25.0);
-  if (!std::isfinite(rate_hz_) || rate_hz_ <= 0.0 || rate_hz_ > 1000.0)
-    throw std::runtime_error("parameter ~rate must lie in (0, 1000] Hz");
-  if (frame_id_.empty()) throw std::runtime_error("parameter ~frame_id must not be empty");
+/// "xbox" -> config/joystick/xbox.yaml; a path is kept as it is.
+std::string resolveJoystickPath(const std::string& name) {
+  if (name.find('/') != std::string::npos || std::filesystem::path(name).has_extension())
+    return name;
+  return std::string(EVSIM_CONFIG_DIR) + "/joystick/" + name + ".yaml";
+}
+
+DriveCommand clampToLimits(DriveCommand c, const DeviceModel& device) {
+  c.insertion = std::clamp(c.insertion, -device.max_insertion_speed, device.max_insertion_speed);
+  c.rotation = std::clamp(c.rotation, -device.max_rotation_speed, device.max_rotation_speed);
+  return c;
+}
+
+/// The reconfigurable part of the contact options, as dynamic_reconfigure shows it.
+void writeConfig(const ContactOptions& o, endovascular_sim::SolverConfig* config) {
+  config->solver = lcpSolverName(o.lcp.solver);
+  config->lcp_tolerance = o.lcp.tolerance;
+  config->lcp_max_iterations = o.lcp.max_iterations;
+  config->max_activation_loops = o.max_activation_loops;
+  config->max_subdivisions = o.max_subdivisions;
+  config->penetration_tolerance = o.penetration_tolerance;
+}
+
+}  // namespace
+
+NavigationNode::Parameters NavigationNode::readParameters(const ros::NodeHandle& nh) {
+  Parameters p;
+  std::vector<std::string> problems;
+  readParam(nh, "scene", &p.scene, &problems, "a scene name or path");
+  readParam(nh, "rate", &p.rate_hz, &problems, "a number [Hz]");
+  readParam(nh, "frame_id", &p.frame_id, &problems, "a string");
+  readParam(nh, "use_script", &p.use_script, &problems, "true or false");
+  readParam(nh, "joystick", &p.joystick, &problems, "a mapping name or path");
+  readParam(nh, "progress", &p.progress, &problems, "true or false");
+  readParam(nh, "vessel_mesh_spacing", &p.vessel_mesh_spacing, &problems, "a length [m]");
+  readParam(nh, "vessel_mesh_rate", &p.vessel_mesh_rate_hz, &problems, "a number [Hz]");
+  readParam(nh, "force_scale", &p.markers.force_scale, &problems, "a number [m/N]");
+  readParam(nh, "plane_size", &p.markers.plane_size, &problems, "a length [m]");
+  if (p.scene.empty()) problems.push_back("~scene must not be empty");
+  if (!(p.rate_hz > 0.0 && p.rate_hz <= 1000.0))
+    problems.push_back("~rate must lie in (0, 1000] Hz");
+  if (p.frame_id.empty()) problems.push_back("~frame_id must not be empty");
+  if (!(p.vessel_mesh_spacing == 0.0 ||
+        (p.vessel_mesh_spacing >= 2e-4 && p.vessel_mesh_spacing <= 0.01)))
+    problems.push_back("~vessel_mesh_spacing must be 0 (no mesh) or lie in [2e-4, 0.01] m");
+  if (!(p.vessel_mesh_rate_hz > 0.0 && p.vessel_mesh_rate_hz <= 100.0))
+    problems.push_back("~vessel_mesh_rate must lie in (0, 100] Hz");
+  if (!(p.markers.force_scale > 0.0 && std::isfinite(p.markers.force_scale)))
+    problems.push_back("~force_scale must be a positive number [m/N]");
+  if (!(p.markers.plane_size > 0.0 && p.markers.plane_size <= 0.05))
+    problems.push_back("~plane_size must lie in (0, 0.05] m");
+  if (!problems.empty()) {
+    std::string message = "invalid parameters:";
+    for (const auto& why : problems) message += "\n  " + why;
+    throw std::runtime_error(message);
+  }
+  if (!p.joystick.empty()) p.joystick = resolveJoystickPath(p.joystick);
+  return p;
+}
+
+NavigationNode::NavigationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
+    : nh_(nh),
+      private_nh_(private_nh),
+      params_(readParameters(private_nh)),
+      loop_(params_.rate_hz),
+      publisher_(nh, params_.frame_id, params_.markers, 1.0 / params_.vessel_mesh_rate_hz) {
+  if (!params_.joystick.empty()) {
+    try {
+      joystick_ = loadJoystickMapping(params_.joystick);
+    } catch (const LoadError& e) {
+      throw std::runtime_error(std::string("~joystick: ") + e.what());
+    }
+  }
+  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<endovascular_sim::SolverConfig>>(
+      reconfigure_mutex_, private_nh_);
+  std::string message;
+  if (!loadSceneNamed(params_.scene, &message)) throw std::runtime_error(message);
+  reconfigure_->setCallback(
+      [this](endovascular_sim::SolverConfig& c, uint32_t level) { onReconfigure(c, level); });
+
+  command_sub_ = nh_.subscribe("command", 10, &NavigationNode::onCommand, this);
+  if (!params_.joystick.empty()) {
+    joy_sub_ = nh_.subscribe("joy", 10, &NavigationNode::onJoy, this);
+    ROS_INFO_STREAM("joystick mapping " << params_.joystick);
+  }
+  load_srv_ = nh_.advertiseService("load_scene", &NavigationNode::onLoadScene, this);
+  list_srv_ = nh_.advertiseService("list_scenes", &NavigationNode::onListScenes, this);
+  reset_srv_ = nh_.advertiseService("reset", &NavigationNode::onReset, this);
+  pause_srv_ = nh_.advertiseService("pause", &NavigationNode::onPause, this);
+  publish_timer_ = nh_.createWallTimer(ros::WallDuration(1.0 / params_.rate_hz),
+                                       &NavigationNode::onPublishTimer, this);
+  progress_timer_ =
+      nh_.createWallTimer(ros::WallDuration(1.0), &NavigationNode::onProgressTimer, this);
+  last_publish_ = ros::WallTime::now();
+  loop_.start();
 }
 
 bool NavigationNode::loadSceneNamed(const std::string& scene, std::string* message) {
+  std::shared_ptr<const SceneModel> model;
   try {
-    auto model = std::make_unique<SceneModel>(loadScene(scene));
-    model_ = std::move(model);
+    model = std::make_shared<const SceneModel>(loadScene(scene));
   } catch (const LoadError& e) {
-    *message = e.what();
+    *message = std::string("cannot load scene: ") + e.what();
+    ROS_ERROR_STREAM(*message);
     return false;  // the current scene keeps running
   }
-  data_ = makeData(*model_);
-  substeps_ = std::max(1, static_cast<int>(std::lround(1.0 / (rate_hz_ * model_->time_step))));
-  path_pubs_.clear();
-  for (const auto& d : model_->devices)
-    path_pubs_.push_back(nh_.advertise<nav_msgs::Path>("devices/" + d.name + "/path", 1));
-  *message = "loaded scene '" + model_->name + "' (" + std::to_string(model_->devices.size()) +
-             " devices, " + std::to_string(substeps_) + " steps per frame)";
+  std::shared_ptr<const SurfaceMesh> mesh;
+  if (model->vessels && params_.vessel_mesh_spacing > 0.0)
+    mesh = std::make_shared<const SurfaceMesh>(
+        meshVesselSurface(*model->vessels, params_.vessel_mesh_spacing));
+  loop_.setScene(model, params_.use_script);
+  publisher_.setScene(*model, mesh, ros::Time::now());
+  joystick_state_ = JoystickState{};
+  showContactOptions(model->contact);
+  std::ostringstream m;
+  m << "loaded scene '" << model->name << "' (" << model->devices.size() << " device"
+    << (model->devices.size() == 1 ? "" : "s") << ", " << loop_.timing().steps_per_frame
+    << " steps of " << model->time_step * 1e3 << " ms per frame";
+  if (mesh) m << ", vessel mesh of " << mesh->triangles.size() << " triangles";
+  m << ")";
+  *message = m.str();
   ROS_INFO_STREAM(*message);
   return true;
 }
 
-void NavigationNode::onTimer(const ros::TimerEvent&) {
-  for (int k = 0; k < substeps_; ++k) {
-    if (step(*model_, &data_) != StepStatus::kOk) {
-      ROS_WARN_STREAM_THROTTLE(1.0, "step rejected, state kept: " << data_.last_error);
-      break;
-    }
+void NavigationNode::onPublishTimer(const ros::WallTimerEvent&) {
+  publisher_.publish(loop_.snapshot(), loop_.timing(), joystick_state_.device);
+  ++frames_this_second_;
+}
+
+void NavigationNode::onProgressTimer(const ros::WallTimerEvent&) {
+  const ros::WallTime now = ros::WallTime::now();
+  publish_rate_hz_ = frames_this_second_ / std::max(1e-9, (now - last_publish_).toSec());
+  frames_this_second_ = 0;
+  last_publish_ = now;
+  const FrameSnapshot f = loop_.snapshot();
+  const LoopTiming timing = loop_.timing();
+  publisher_.publishDiagnostics(f, timing, publish_rate_hz_, loop_.lastError());
+  if (!params_.progress || f.devices.empty()) return;
+  std::ostringstream line;
+  line << std::fixed << std::setprecision(2) << "t=" << f.time << " s";
+  for (size_t i = 0; i < f.devices.size(); ++i) {
+    const Vec3 tip = 1e3 * f.devices[i].position.back();
+    line << " | " << f.model->devices[i].name << ": " << std::setprecision(1)
+         << 1e3 * f.devices[i].inserted_length << " mm in, tip (" << tip.x() << ", " << tip.y()
+         << ", " << tip.z() << ") mm";
   }
-  publish();
+  line << " | " << f.stats.contacts << " contacts | " << std::setprecision(1) << publish_rate_hz_
+       << " Hz | RTF " << std::setprecision(2) << timing.real_time_factor
+       << (f.paused ? " | paused" : "");
+  ROS_INFO_STREAM(line.str());
 }
 
 void NavigationNode::onCommand(const endovascular_sim::DeviceCommand& msg) {
+  if (msg.mode != endovascular_sim::DeviceCommand::VELOCITY &&
+      msg.mode != endovascular_sim::DeviceCommand::POSITION) {
+    ROS_WARN_STREAM("command refused: mode " << int(msg.mode) << " is neither VELOCITY (0) nor "
+                                             << "POSITION (1)");
+    return;
+  }
   DriveCommand cmd;
   cmd.mode = msg.mode == endovascular_sim::DeviceCommand::POSITION ? DriveCommand::Mode::kPosition
                                                                    : DriveCommand::Mode::kVelocity;
   cmd.insertion = msg.insertion;
   cmd.rotation = msg.rotation;
-  const std::string why = setCommand(*model_, &data_, msg.device, cmd);
-  if (!why.empty()) ROS_WARN_STREAM("command refused: " << why);
+  const std::string why = loop_.setCommand(msg.device, cmd);
+  if (!why.empty()) ROS_WARN_STREAM("command refused for '" << msg.device << "': " << why);
+}
+
+void NavigationNode::onJoy(const sensor_msgs::Joy& msg) {
+  const auto model = loop_.model();
+  const int n = static_cast<int>(model->devices.size());
+  const JoystickOutcome out = mapJoystick(joystick_, msg.axes, msg.buttons, n, &joystick_state_);
+  if (!out.problem.empty()) {
+    ROS_WARN_STREAM_THROTTLE(5.0, "joy message ignored: " << out.problem);
+    return;
+  }
+  if (out.switched)
+    ROS_INFO_STREAM("joystick drives '" << model->devices[joystick_state_.device].name << "'");
+  for (const auto& [device, command] : out.commands) {
+    const DeviceModel& d = model->devices[device];
+    const std::string why = loop_.setCommand(d.name, clampToLimits(command, d));
+    if (!why.empty()) ROS_WARN_STREAM_THROTTLE(1.0, "joystick command refused: " << why);
+  }
 }
 
 bool NavigationNode::onLoadScene(endovascular_sim::LoadScene::Request& req,
@@ -81,39 +216,54 @@ bool NavigationNode::onListScenes(endovascular_sim::ListScenes::Request&,
   return true;
 }
 
-void NavigationNode::publish() {
-  const ros::Time stamp = ros::Time::now();
-  endovascular_sim::StepStats s;
-  s.header.stamp = stamp;
-  s.header.frame_id = frame_id_;
-  s.step = static_cast<uint32_t>(data_.step);
-  s.sim_time = data_.time;
-  s.wall_time_ms = data_.stats.wall_ms;
-  s.assembly_ms = data_.stats.assembly_ms;
-  s.factorization_ms = data_.stats.factorization_ms;
-  s.solve_ms = data_.stats.solve_ms;
-  s.contacts = data_.stats.contacts;
-  s.max_penetration = data_.stats.max_penetration_m;
-  s.real_time_factor = data_.stats.wall_ms > 0 ? model_->time_step * 1e3 / data_.stats.wall_ms : 0;
-  stats_pub_.publish(s);
-  for (size_t i = 0; i < path_pubs_.size(); ++i) {
-    nav_msgs::Path path;
-    path.header = s.header;
-    const DeviceState& d = data_.devices[i];
-    for (size_t n = 0; n < d.position.size(); ++n) {
-      geometry_msgs::PoseStamped p;
-      p.header = s.header;
-      p.pose.position.x = d.position[n].x();
-      p.pose.position.y = d.position[n].y();
-      p.pose.position.z = d.position[n].z();
-      p.pose.orientation.w = d.rotation[n].w();
-      p.pose.orientation.x = d.rotation[n].x();
-      p.pose.orientation.y = d.rotation[n].y();
-      p.pose.orientation.z = d.rotation[n].z();
-      path.poses.push_back(p);
-    }
-    path_pubs_[i].publish(path);
+bool NavigationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  loop_.reset();
+  publisher_.setEpoch(ros::Time::now());
+  joystick_state_.moving = false;
+  res.success = true;
+  res.message = "scene '" + loop_.model()->name + "' back to its initial state";
+  ROS_INFO_STREAM(res.message);
+  return true;
+}
+
+bool NavigationNode::onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
+  loop_.setPaused(req.data);
+  res.success = true;
+  res.message = req.data ? "paused" : "running";
+  ROS_INFO_STREAM("simulation " << res.message);
+  return true;
+}
+
+void NavigationNode::onReconfigure(endovascular_sim::SolverConfig& config, uint32_t) {
+  const auto model = loop_.model();
+  ContactOptions o = model->contact;
+  std::string why;
+  try {
+    o.lcp.solver = lcpSolverFromName(config.solver);
+  } catch (const std::exception& e) {
+    why = e.what();
   }
+  o.lcp.tolerance = config.lcp_tolerance;
+  o.lcp.max_iterations = config.lcp_max_iterations;
+  o.max_activation_loops = config.max_activation_loops;
+  o.max_subdivisions = config.max_subdivisions;
+  o.penetration_tolerance = config.penetration_tolerance;
+  if (why.empty()) why = loop_.setContactOptions(o);
+  if (!why.empty()) {
+    ROS_WARN_STREAM("solver options refused: " << why);
+    o = model->contact;  // show what is in force
+  } else {
+    ROS_INFO_STREAM("solver options: " << config.solver << ", tolerance " << o.lcp.tolerance << ", "
+                                       << o.max_activation_loops << " loops, " << o.max_subdivisions
+                                       << " subdivisions");
+  }
+  writeConfig(o, &config);
+}
+
+void NavigationNode::showContactOptions(const ContactOptions& options) {
+  endovascular_sim::SolverConfig config = endovascular_sim::SolverConfig::__getDefault__();
+  writeConfig(options, &config);
+  reconfigure_->updateConfig(config);
 }
 
 }  // namespace evsim

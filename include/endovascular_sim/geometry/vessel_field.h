@@ -53,6 +53,9 @@ class VesselField : public ImplicitSurface {
   double hessianBound(const Vec3& p0, const Vec3& p1, double device_radius) const override;
 
   MotionSnapshot motionAt(double t) const override;
+  /// Displacement u(x) [m] of the motion field at a point (what a vessel
+  /// centreline point there is moved by; displays move mesh vertices by it).
+  Vec3 displacement(const Vec3& x, const MotionSnapshot& motion) const;
   bool moves() const { return !motion_.empty(); }
   /// Motion periods [s] of the regions (tests).
   std::vector<double> motionPeriods() const;

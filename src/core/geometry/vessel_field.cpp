@@ -53,6 +53,13 @@ Vec3 VesselField::displaced(const Vec3& x, int weights, int endpoint,
   return y;
 }
 
+Vec3 VesselField::displacement(const Vec3& x, const MotionSnapshot& m) const {
+  Vec3 u = Vec3::Zero();
+  for (size_t k = 0; k < m.size() && k < motion_.size(); ++k)
+    u += falloff((x - motion_[k].center).norm() / motion_[k].radius) * m[k];
+  return u;
+}
+
 MotionSnapshot VesselField::motionAt(double t) const {
   MotionSnapshot m;
   for (const auto& r : motion_)

@@ -9,62 +9,12 @@
 
 #include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/scene/device_file.h"
+#include "endovascular_sim/scene/yaml_reader.h"
 
 namespace evsim {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// Typed access to YAML nodes with errors that name the file, line and field.
-class YamlReader {
- public:
-  explicit YamlReader(std::string file) : file_(std::move(file)) {}
-
-  [[noreturn]] void fail(const YAML::Node& node, const std::string& field,
-                         const std::string& what) const {
-    const int line = node.IsDefined() ? node.Mark().line + 1 : 0;
-    throw LoadError(file_, line > 0 ? line : 0, field, what);
-  }
-
-  YAML::Node required(const YAML::Node& parent, const std::string& key,
-                      const std::string& field) const {
-    const YAML::Node n = parent[key];
-    if (!n) fail(parent, field, "is missing");
-    return n;
-  }
-
-  double number(const YAML::Node& n, const std::string& field) const {
-    double v;
-    try {
-      v = n.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(n, field, "must be a number");
-    }
-    if (!std::isfinite(v)) fail(n, field, "must be finite");
-    return v;
-  }
-
-  double number(const YAML::Node& parent, const std::string& key, const std::string& prefix,
-                double fallback) const {
-    const YAML::Node n = parent[key];
-    return n ? number(n, prefix + key) : fallback;
-  }
-
-  std::string text(const YAML::Node& n, const std::string& field) const {
-    if (!n.IsScalar()) fail(n, field, "must be a string");
-    return n.as<std::string>();
-  }
-
-  Vec3 vector3(const YAML::Node& n, const std::string& field) const {
-    if (!n.IsSequence() || n.size() != 3) fail(n, field, "must be a list of 3 numbers");
-    return Vec3(number(n[0], field), number(n[1], field), number(n[2], field));
-  }
-
-  const std::string& file() const { return file_; }
-
- private:
-  std::string file_;
-};
 
 Mat3 introducerFrame(const Vec3& direction, const Vec3& up) {
   const Vec3 x = direction.normalized();
@@ -240,15 +190,8 @@ const std::vector<std::string>& knownEffects() {
 }
 
 SceneSpec loadSceneFile(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw LoadError(path, 0, "", "cannot open the scene file");
-  } catch (const YAML::ParserException& e) {
-    throw LoadError(path, e.mark.line + 1, "", "malformed YAML: " + e.msg);
-  }
   const YamlReader r(path);
+  const YAML::Node root = r.load();
   if (!root.IsMap()) r.fail(root, "", "a scene is a YAML map");
   SceneSpec s;
   s.file = path;

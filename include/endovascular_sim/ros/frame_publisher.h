@@ -1,0 +1,62 @@
+// Everything the node publishes for a frame, stamped with simulated time
+// (the scene's start on the wall clock plus the simulated time):
+//   stats                         endovascular_sim/StepStats
+//   contacts                      endovascular_sim/ContactArray
+//   device_states                 endovascular_sim/DeviceStatusArray
+//   devices/<name>/path           nav_msgs/Path (node poses)
+//   markers                       visualization_msgs/MarkerArray
+//   vessels                       visualization_msgs/Marker, latched (moved with the vessels)
+//   tf                            <name>/tip and <name>/access under frame_id
+//   /diagnostics                  loop rate, real-time factor, overruns (every second)
+#pragma once
+
+#include <ros/ros.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "endovascular_sim/geometry/surface_mesh.h"
+#include "endovascular_sim/ros/frame_snapshot.h"
+#include "endovascular_sim/ros/scene_markers.h"
+
+namespace evsim {
+
+class FramePublisher {
+ public:
+  FramePublisher(ros::NodeHandle nh, std::string frame_id, MarkerStyle style,
+                 double vessel_mesh_period_s);
+
+  /// A new scene: per-device topics, the latched vessel mesh (may be null).
+  void setScene(const SceneModel& model, std::shared_ptr<const SurfaceMesh> mesh, ros::Time epoch);
+  /// The wall time that simulated time 0 is stamped as (reset, new scene).
+  void setEpoch(ros::Time epoch) { epoch_ = epoch; }
+
+  void publish(const FrameSnapshot& frame, const LoopTiming& timing, int driven_device);
+  /// One DiagnosticStatus for the loop: OK, WARN when frames overran or the
+  /// real-time factor fell below 0.9 since the last call, ERROR after a
+  /// rejected step.
+  void publishDiagnostics(const FrameSnapshot& frame, const LoopTiming& timing,
+                          double publish_rate_hz, const std::string& last_error);
+
+ private:
+  void publishTransforms(const FrameSnapshot& frame, const std_msgs::Header& header);
+  void publishVesselMesh(const FrameSnapshot& frame, const std_msgs::Header& header);
+
+  ros::NodeHandle nh_;
+  std::string frame_id_;
+  MarkerStyle style_;
+  double vessel_mesh_period_s_;
+  ros::Time epoch_;
+  ros::Publisher stats_pub_, contacts_pub_, states_pub_, markers_pub_, vessels_pub_,
+      diagnostics_pub_;
+  std::vector<ros::Publisher> path_pubs_;
+  tf2_ros::TransformBroadcaster tf_broadcaster_;
+  std::shared_ptr<const SurfaceMesh> mesh_;
+  double last_mesh_time_{-1.0};  // simulated time of the last published mesh [s]
+  double last_tf_time_{-1.0};    // tf is sent only when simulated time advanced
+  long last_overruns_{0};
+};
+
+}  // namespace evsim

@@ -1,0 +1,71 @@
+// The fixed-step simulation loop of the node (ROS-free): a thread that runs
+// frames of a fixed number of steps (1 / (rate dt), as the scene's time step
+// asks) paced by the wall clock. Simulated time only ever advances by whole
+// steps, never by wall-clock differences; a frame that ends more than one
+// period late is counted as an overrun and the schedule restarts from now
+// (no burst of catch-up frames). Everything here is safe to call from other
+// threads while the loop runs.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "endovascular_sim/ros/frame_snapshot.h"
+
+namespace evsim {
+
+class SimulationLoop {
+ public:
+  /// rate: frames per second [Hz].
+  explicit SimulationLoop(double rate_hz);
+  ~SimulationLoop();
+  SimulationLoop(const SimulationLoop&) = delete;
+  SimulationLoop& operator=(const SimulationLoop&) = delete;
+
+  void start();
+  void stop();
+
+  /// Replaces the scene (fresh data at its initial state). With use_script
+  /// false the scene's scripted commands are skipped.
+  void setScene(std::shared_ptr<const SceneModel> model, bool use_script);
+  /// Back to the scene's initial state (commands cleared, time 0).
+  void reset();
+  void setPaused(bool paused);
+  /// Sets a device's command; returns why it was refused ("" when accepted).
+  std::string setCommand(const std::string& device, const DriveCommand& command);
+  /// Replaces the contact options (validated; returns why refused, "" if not).
+  std::string setContactOptions(const ContactOptions& options);
+
+  std::shared_ptr<const SceneModel> model() const;
+  FrameSnapshot snapshot() const;
+  LoopTiming timing() const;
+  /// Why the last rejected step was rejected ("" if none was).
+  std::string lastError() const;
+
+ private:
+  void run();
+  /// The lock for callers other than the loop: they announce themselves so
+  /// that the loop lets them in before its next step (a plain mutex would let
+  /// the stepping thread take it again and again).
+  std::unique_lock<std::mutex> lockForCaller() const;
+  /// Runs one frame's steps; returns the simulated time [s].
+  double runFrame();
+
+  const double period_s_;
+  mutable std::mutex mutex_;  // guards everything below
+  std::shared_ptr<const SceneModel> model_;
+  SimData data_;
+  bool use_script_{true};
+  bool paused_{false};
+  LoopTiming timing_;
+  std::string last_error_;
+
+  mutable std::atomic<int> waiters_{0};
+  std::atomic<bool> running_{false};
+  std::thread thread_;
+};
+
+}  // namespace evsim

@@ -1,0 +1,43 @@
+// Typed access to YAML nodes with errors (LoadError) that name the file, the
+// line and the field. Shared by the loaders of YAML files.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+
+#include "endovascular_sim/core/types.h"
+
+namespace evsim {
+
+class YamlReader {
+ public:
+  explicit YamlReader(std::string file) : file_(std::move(file)) {}
+
+  /// Parses the file (throws LoadError when it cannot be read or is not YAML).
+  YAML::Node load() const;
+
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& field,
+                         const std::string& what) const;
+
+  YAML::Node required(const YAML::Node& parent, const std::string& key,
+                      const std::string& field) const;
+
+  /// A finite number.
+  double number(const YAML::Node& n, const std::string& field) const;
+  /// parent[key] as a finite number, or fallback when absent; the field is
+  /// named prefix + key.
+  double number(const YAML::Node& parent, const std::string& key, const std::string& prefix,
+                double fallback) const;
+  /// A whole number.
+  int integer(const YAML::Node& n, const std::string& field) const;
+  std::string text(const YAML::Node& n, const std::string& field) const;
+  Vec3 vector3(const YAML::Node& n, const std::string& field) const;
+
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+};
+
+}  // namespace evsim

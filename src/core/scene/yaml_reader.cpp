@@ -1,0 +1,68 @@
+#include "endovascular_sim/scene/yaml_reader.h"
+
+#include <cmath>
+#include <fstream>
+
+#include "endovascular_sim/core/load_error.h"
+
+namespace evsim {
+
+YAML::Node YamlReader::load() const {
+  std::ifstream in(file_);
+  if (!in) throw LoadError(file_, 0, "", "cannot open the file");
+  try {
+    return YAML::Load(in);
+  } catch (const YAML::ParserException& e) {
+    throw LoadError(file_, e.mark.line + 1, "", "malformed YAML: " + e.msg);
+  }
+}
+
+void YamlReader::fail(const YAML::Node& node, const std::string& field,
+                      const std::string& what) const {
+  const int line = node.IsDefined() ? node.Mark().line + 1 : 0;
+  throw LoadError(file_, line > 0 ? line : 0, field, what);
+}
+
+YAML::Node YamlReader::required(const YAML::Node& parent, const std::string& key,
+                                const std::string& field) const {
+  const YAML::Node n = parent[key];
+  if (!n) fail(parent, field, "is missing");
+  return n;
+}
+
+double YamlReader::number(const YAML::Node& n, const std::string& field) const {
+  double v;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    fail(n, field, "must be a number");
+  }
+  if (!std::isfinite(v)) fail(n, field, "must be finite");
+  return v;
+}
+
+double YamlReader::number(const YAML::Node& parent, const std::string& key,
+                          const std::string& prefix, double fallback) const {
+  const YAML::Node n = parent[key];
+  return n ? number(n, prefix + key) : fallback;
+}
+
+int YamlReader::integer(const YAML::Node& n, const std::string& field) const {
+  try {
+    return n.as<int>();
+  } catch (const YAML::Exception&) {
+    fail(n, field, "must be a whole number");
+  }
+}
+
+std::string YamlReader::text(const YAML::Node& n, const std::string& field) const {
+  if (!n.IsScalar()) fail(n, field, "must be a string");
+  return n.as<std::string>();
+}
+
+Vec3 YamlReader::vector3(const YAML::Node& n, const std::string& field) const {
+  if (!n.IsSequence() || n.size() != 3) fail(n, field, "must be a list of 3 numbers");
+  return Vec3(number(n[0], field), number(n[1], field), number(n[2], field));
+}
+
+}  // namespace evsim

@@ -1,0 +1,139 @@
+#include "endovascular_sim/ros/frame_publisher.h"
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <geometry_msgs/TransformStamped.h>
+
+#include <sstream>
+
+#include "endovascular_sim/ros/message_conversions.h"
+
+namespace evsim {
+namespace {
+
+geometry_msgs::TransformStamped transform(const std_msgs::Header& header, const std::string& child,
+                                          const Vec3& p, const Quat& q) {
+  geometry_msgs::TransformStamped t;
+  t.header = header;
+  t.child_frame_id = child;
+  t.transform.translation = toVector3(p);
+  t.transform.rotation = toQuaternion(q);
+  return t;
+}
+
+diagnostic_msgs::KeyValue keyValue(const std::string& key, double value) {
+  diagnostic_msgs::KeyValue kv;
+  kv.key = key;
+  std::ostringstream s;
+  s << value;
+  kv.value = s.str();
+  return kv;
+}
+
+}  // namespace
+
+FramePublisher::FramePublisher(ros::NodeHandle nh, std::string frame_id, MarkerStyle style,
+                               double vessel_mesh_period_s)
+    : nh_(nh),
+      frame_id_(std::move(frame_id)),
+      style_(style),
+      vessel_mesh_period_s_(vessel_mesh_period_s) {
+  stats_pub_ = nh_.advertise<endovascular_sim::StepStats>("stats", 10);
+  contacts_pub_ = nh_.advertise<endovascular_sim::ContactArray>("contacts", 10);
+  states_pub_ = nh_.advertise<endovascular_sim::DeviceStatusArray>("device_states", 10);
+  markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("markers", 10);
+  vessels_pub_ = nh_.advertise<visualization_msgs::Marker>("vessels", 1, /*latch=*/true);
+  diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+}
+
+void FramePublisher::setScene(const SceneModel& model, std::shared_ptr<const SurfaceMesh> mesh,
+                              ros::Time epoch) {
+  epoch_ = epoch;
+  path_pubs_.clear();
+  for (const DeviceModel& d : model.devices)
+    path_pubs_.push_back(nh_.advertise<nav_msgs::Path>("devices/" + d.name + "/path", 1));
+  mesh_ = std::move(mesh);
+  last_mesh_time_ = -1.0;
+  last_tf_time_ = -1.0;
+  if (!mesh_) {  // a scene without vessels: clear what a previous scene showed
+    visualization_msgs::Marker clear;
+    clear.header.frame_id = frame_id_;
+    clear.header.stamp = epoch;
+    clear.ns = "vessels";
+    clear.action = visualization_msgs::Marker::DELETE;
+    vessels_pub_.publish(clear);
+  }
+}
+
+void FramePublisher::publish(const FrameSnapshot& f, const LoopTiming& timing, int driven) {
+  std_msgs::Header header;
+  header.frame_id = frame_id_;
+  header.stamp = epoch_ + ros::Duration(f.time);
+  stats_pub_.publish(toStepStatsMsg(f, timing, header));
+  contacts_pub_.publish(toContactArrayMsg(f, header));
+  states_pub_.publish(toDeviceStatusMsg(f, driven, header));
+  for (size_t i = 0; i < path_pubs_.size() && i < f.devices.size(); ++i)
+    path_pubs_[i].publish(toPathMsg(f.devices[i], header));
+  if (markers_pub_.getNumSubscribers() > 0) markers_pub_.publish(sceneMarkers(f, style_, header));
+  publishTransforms(f, header);
+  publishVesselMesh(f, header);
+}
+
+void FramePublisher::publishTransforms(const FrameSnapshot& f, const std_msgs::Header& header) {
+  if (f.time <= last_tf_time_) return;  // paused: tf2 refuses repeated stamps
+  last_tf_time_ = f.time;
+  std::vector<geometry_msgs::TransformStamped> transforms;
+  for (size_t i = 0; i < f.devices.size(); ++i) {
+    const std::string& name = f.model->devices[i].name;
+    const DeviceState& d = f.devices[i];
+    transforms.push_back(transform(header, name + "/tip", d.position.back(), d.rotation.back()));
+    const Introducer& intro = f.model->introducers[i];
+    const Quat access(intro.frame *
+                      Eigen::AngleAxisd(d.rotation_angle, Vec3::UnitX()).toRotationMatrix());
+    transforms.push_back(transform(header, name + "/access", intro.access_point, access));
+  }
+  tf_broadcaster_.sendTransform(transforms);
+}
+
+void FramePublisher::publishVesselMesh(const FrameSnapshot& f, const std_msgs::Header& header) {
+  if (!mesh_) return;
+  const bool moving = !f.motion.empty();
+  if (last_mesh_time_ >= 0.0 && (!moving || f.time - last_mesh_time_ < vessel_mesh_period_s_))
+    return;
+  last_mesh_time_ = f.time;
+  vessels_pub_.publish(vesselMeshMarker(*mesh_, f.model->vessels.get(), f.motion, header));
+}
+
+void FramePublisher::publishDiagnostics(const FrameSnapshot& f, const LoopTiming& timing,
+                                        double publish_rate_hz, const std::string& last_error) {
+  diagnostic_msgs::DiagnosticStatus s;
+  s.name = ros::this_node::getName() + ": simulation loop";
+  s.hardware_id = f.model->name;
+  const long new_overruns = timing.overruns - last_overruns_;
+  last_overruns_ = timing.overruns;
+  if (!last_error.empty()) {
+    s.level = diagnostic_msgs::DiagnosticStatus::ERROR;
+    s.message = "step rejected (state kept): " + last_error;
+  } else if (!f.paused && (new_overruns > 0 || timing.real_time_factor < 0.9)) {
+    s.level = diagnostic_msgs::DiagnosticStatus::WARN;
+    std::ostringstream m;
+    m << "frames overrun: " << new_overruns << " in the last second, real-time factor "
+      << timing.real_time_factor << " (the scene is heavier than real time at this rate)";
+    s.message = m.str();
+  } else {
+    s.level = diagnostic_msgs::DiagnosticStatus::OK;
+    s.message = f.paused ? "paused" : "running in real time";
+  }
+  s.values.push_back(keyValue("publish rate [Hz]", publish_rate_hz));
+  s.values.push_back(keyValue("steps per frame", timing.steps_per_frame));
+  s.values.push_back(keyValue("frame wall time [ms]", timing.frame_ms));
+  s.values.push_back(keyValue("real-time factor", timing.real_time_factor));
+  s.values.push_back(keyValue("overruns (total)", static_cast<double>(timing.overruns)));
+  s.values.push_back(keyValue("simulated time [s]", f.time));
+  s.values.push_back(keyValue("contacts", f.stats.contacts));
+  diagnostic_msgs::DiagnosticArray array;
+  array.header.stamp = ros::Time::now();
+  array.status.push_back(s);
+  diagnostics_pub_.publish(array);
+}
+
+}  // namespace evsim

@@ -1,0 +1,115 @@
+#include "endovascular_sim/ros/message_conversions.h"
+
+namespace evsim {
+
+geometry_msgs::Point toPoint(const Vec3& p) {
+  geometry_msgs::Point m;
+  m.x = p.x();
+  m.y = p.y();
+  m.z = p.z();
+  return m;
+}
+
+geometry_msgs::Vector3 toVector3(const Vec3& v) {
+  geometry_msgs::Vector3 m;
+  m.x = v.x();
+  m.y = v.y();
+  m.z = v.z();
+  return m;
+}
+
+geometry_msgs::Quaternion toQuaternion(const Quat& q) {
+  geometry_msgs::Quaternion m;
+  m.w = q.w();
+  m.x = q.x();
+  m.y = q.y();
+  m.z = q.z();
+  return m;
+}
+
+geometry_msgs::Pose toPose(const Vec3& p, const Quat& q) {
+  geometry_msgs::Pose m;
+  m.position = toPoint(p);
+  m.orientation = toQuaternion(q);
+  return m;
+}
+
+endovascular_sim::StepStats toStepStatsMsg(const FrameSnapshot& f, const LoopTiming& timing,
+                                           const std_msgs::Header& header) {
+  const StepStats& s = f.stats;
+  endovascular_sim::StepStats m;
+  m.header = header;
+  m.scene = f.model->name;
+  m.step = static_cast<uint32_t>(f.step);
+  m.sim_time = f.time;
+  m.paused = f.paused;
+  m.wall_time_ms = s.wall_ms;
+  m.assembly_ms = s.assembly_ms;
+  m.factorization_ms = s.factorization_ms;
+  m.solve_ms = s.solve_ms;
+  m.detection_ms = s.detection_ms;
+  m.delassus_ms = s.delassus_ms;
+  m.lcp_ms = s.lcp_ms;
+  m.correction_ms = s.correction_ms;
+  m.contacts = static_cast<uint32_t>(s.contacts);
+  m.active_contacts = static_cast<uint32_t>(s.active_contacts);
+  m.activation_loops = static_cast<uint32_t>(s.activation_loops);
+  m.lcp_iterations = static_cast<uint32_t>(s.lcp_iterations);
+  m.lcp_residual = s.lcp_residual;
+  m.subdivisions = static_cast<uint32_t>(s.subdivisions);
+  m.max_penetration = s.max_penetration_m;
+  m.steps_per_frame = static_cast<uint32_t>(timing.steps_per_frame);
+  m.frame_ms = timing.frame_ms;
+  m.real_time_factor = timing.real_time_factor;
+  return m;
+}
+
+endovascular_sim::ContactArray toContactArrayMsg(const FrameSnapshot& f,
+                                                 const std_msgs::Header& header) {
+  endovascular_sim::ContactArray m;
+  m.header = header;
+  m.contacts.reserve(f.contacts.size());
+  for (const Contact& c : f.contacts) {
+    endovascular_sim::Contact mc;
+    mc.device = f.model->devices[c.device].name;
+    mc.sample = static_cast<uint32_t>(c.sample);
+    if (c.other_device >= 0) mc.other_device = f.model->devices[c.other_device].name;
+    mc.point = toPoint(c.point);
+    mc.normal = toVector3(c.normal);
+    mc.force = c.force;
+    mc.gap = c.gap;
+    m.contacts.push_back(mc);
+  }
+  return m;
+}
+
+endovascular_sim::DeviceStatusArray toDeviceStatusMsg(const FrameSnapshot& f, int driven,
+                                                      const std_msgs::Header& header) {
+  endovascular_sim::DeviceStatusArray m;
+  m.header = header;
+  for (size_t i = 0; i < f.devices.size(); ++i) {
+    const DeviceState& d = f.devices[i];
+    endovascular_sim::DeviceStatus s;
+    s.name = f.model->devices[i].name;
+    s.inserted_length = d.inserted_length;
+    s.rotation = d.rotation_angle;
+    s.tip = toPose(d.position.back(), d.rotation.back());
+    s.released = d.released;
+    s.driven = static_cast<int>(i) == driven;
+    m.devices.push_back(s);
+  }
+  return m;
+}
+
+nav_msgs::Path toPathMsg(const DeviceState& device, const std_msgs::Header& header) {
+  nav_msgs::Path path;
+  path.header = header;
+  path.poses.resize(device.position.size());
+  for (size_t n = 0; n < device.position.size(); ++n) {
+    path.poses[n].header = header;
+    path.poses[n].pose = toPose(device.position[n], device.rotation[n]);
+  }
+  return path;
+}
+
+}  // namespace evsim

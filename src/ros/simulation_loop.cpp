@@ -1,0 +1,162 @@
+#include "endovascular_sim/ros/simulation_loop.h"
+
+#include <chrono>
+#include <cmath>
+
+namespace evsim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+int stepsPerFrame(double period_s, double time_step) {
+  return std::max(1, static_cast<int>(std::lround(period_s / time_step)));
+}
+
+}  // namespace
+
+SimulationLoop::SimulationLoop(double rate_hz) : period_s_(1.0 / rate_hz) {}
+
+SimulationLoop::~SimulationLoop() { stop(); }
+
+std::unique_lock<std::mutex> SimulationLoop::lockForCaller() const {
+  ++waiters_;
+  std::unique_lock<std::mutex> lock(mutex_);
+  --waiters_;
+  return lock;
+}
+
+void SimulationLoop::start() {
+  if (running_.exchange(true)) return;
+  thread_ = std::thread(&SimulationLoop::run, this);
+}
+
+void SimulationLoop::stop() {
+  running_ = false;
+  if (thread_.joinable()) thread_.join();
+}
+
+void SimulationLoop::setScene(std::shared_ptr<const SceneModel> model, bool use_script) {
+  const auto lock = lockForCaller();
+  model_ = std::move(model);
+  use_script_ = use_script;
+  data_ = makeData(*model_);
+  if (!use_script_) data_.next_script_entry = model_->script.size();
+  timing_ = LoopTiming{};
+  timing_.steps_per_frame = stepsPerFrame(period_s_, model_->time_step);
+  last_error_.clear();
+}
+
+void SimulationLoop::reset() {
+  const auto lock = lockForCaller();
+  if (!model_) return;
+  data_ = makeData(*model_);
+  if (!use_script_) data_.next_script_entry = model_->script.size();
+  last_error_.clear();
+}
+
+void SimulationLoop::setPaused(bool paused) {
+  const auto lock = lockForCaller();
+  paused_ = paused;
+}
+
+std::string SimulationLoop::setCommand(const std::string& device, const DriveCommand& command) {
+  const auto lock = lockForCaller();
+  if (!model_) return "no scene loaded";
+  return evsim::setCommand(*model_, &data_, device, command);
+}
+
+std::string SimulationLoop::setContactOptions(const ContactOptions& options) {
+  const std::string why = validateContactOptions(options);
+  if (!why.empty()) return why;
+  const auto lock = lockForCaller();
+  if (!model_) return "no scene loaded";
+  auto model = std::make_shared<SceneModel>(*model_);  // models are immutable: swap a copy
+  model->contact = options;
+  model_ = std::move(model);
+  return "";
+}
+
+std::shared_ptr<const SceneModel> SimulationLoop::model() const {
+  const auto lock = lockForCaller();
+  return model_;
+}
+
+FrameSnapshot SimulationLoop::snapshot() const {
+  const auto lock = lockForCaller();
+  FrameSnapshot f;
+  f.model = model_;
+  f.time = data_.time;
+  f.step = data_.step;
+  f.paused = paused_;
+  f.devices = data_.devices;
+  f.contacts = data_.contacts;
+  f.stats = data_.stats;
+  if (model_ && model_->surface) f.motion = model_->surface->motionAt(data_.time);
+  return f;
+}
+
+LoopTiming SimulationLoop::timing() const {
+  const auto lock = lockForCaller();
+  return timing_;
+}
+
+std::string SimulationLoop::lastError() const {
+  const auto lock = lockForCaller();
+  return last_error_;
+}
+
+double SimulationLoop::runFrame() {
+  int steps = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!model_) return 0.0;
+    steps = timing_.steps_per_frame;
+  }
+  double simulated = 0.0;
+  for (int k = 0; k < steps && running_; ++k) {
+    // The lock is taken per step and handed to waiting callers between steps,
+    // so commands, services and the publisher wait at most one step.
+    while (waiters_ > 0) std::this_thread::yield();
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (paused_ || !model_) break;
+    if (step(*model_, &data_) != StepStatus::kOk) {
+      last_error_ = data_.last_error;  // the state is kept; try again next frame
+      break;
+    }
+    simulated += model_->time_step;
+  }
+  return simulated;
+}
+
+void SimulationLoop::run() {
+  const auto period =
+      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(period_s_));
+  auto deadline = Clock::now();
+  auto window_start = deadline;
+  double window_sim_s = 0.0;
+  while (running_) {
+    const auto frame_start = Clock::now();
+    const double simulated = runFrame();
+    const auto now = Clock::now();
+    deadline += period;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      timing_.frame_ms = std::chrono::duration<double, std::milli>(now - frame_start).count();
+      ++timing_.frames;
+      window_sim_s += simulated;
+      const double window_s = std::chrono::duration<double>(now - window_start).count();
+      if (window_s >= 1.0) {
+        timing_.real_time_factor = window_sim_s / window_s;
+        window_start = now;
+        window_sim_s = 0.0;
+      }
+      if (now > deadline + period) {
+        ++timing_.overruns;
+        deadline = now;  // restart the schedule rather than bursting to catch up
+      }
+    }
+    std::this_thread::sleep_until(deadline);
+  }
+}
+
+}  // namespace evsim

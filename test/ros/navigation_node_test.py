@@ -1,0 +1,258 @@
+#!/usr/bin/env python3
+"""rostest of navigation_node: commands, joystick, services and refusals.
+
+Every expected value comes from outside the node: the scene files (initial
+inserted length, insertion direction), the joystick mapping file, the list of
+files in config/scenes, and the commands the test itself sends.
+"""
+import glob
+import math
+import os
+import threading
+import time
+import unittest
+
+import rospy
+import rostest
+import tf2_ros
+import yaml
+from endovascular_sim.msg import DeviceCommand, DeviceStatusArray, StepStats
+from endovascular_sim.srv import ListScenes, LoadScene
+from rosgraph_msgs.msg import Log
+from sensor_msgs.msg import Joy
+from std_srvs.srv import SetBool, Trigger
+
+PKG_DIR = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+CONFIG = os.path.join(PKG_DIR, 'config')
+
+
+def load_yaml(*parts):
+    with open(os.path.join(CONFIG, *parts)) as f:
+        return yaml.safe_load(f)
+
+
+def quaternion_rotate(q, v):
+    """Rotates v by the unit quaternion q = (x, y, z, w)."""
+    x, y, z, w = q
+    # v' = v + 2 w (u x v) + 2 u x (u x v), u = (x, y, z)
+    ux = (y * v[2] - z * v[1], z * v[0] - x * v[2], x * v[1] - y * v[0])
+    uux = (y * ux[2] - z * ux[1], z * ux[0] - x * ux[2], x * ux[1] - y * ux[0])
+    return tuple(v[i] + 2 * w * ux[i] + 2 * uux[i] for i in range(3))
+
+
+class NavigationNodeTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('navigation_node_test')
+        cls.lock = threading.RLock()
+        cls.states = None
+        cls.stats = None
+        cls.log = []
+        rospy.Subscriber('device_states', DeviceStatusArray, cls._on_states)
+        rospy.Subscriber('stats', StepStats, cls._on_stats)
+        rospy.Subscriber('/rosout', Log, cls._on_log)
+        cls.command_pub = rospy.Publisher('command', DeviceCommand, queue_size=10)
+        cls.joy_pub = rospy.Publisher('joy', Joy, queue_size=10)
+        for name in ('list_scenes', 'load_scene', 'reset', 'pause'):
+            rospy.wait_for_service(name, timeout=60)
+        cls.list_scenes = rospy.ServiceProxy('list_scenes', ListScenes)
+        cls.load_scene = rospy.ServiceProxy('load_scene', LoadScene)
+        cls.reset = rospy.ServiceProxy('reset', Trigger)
+        cls.pause = rospy.ServiceProxy('pause', SetBool)
+        cls.tf_buffer = tf2_ros.Buffer()
+        cls.tf_listener = tf2_ros.TransformListener(cls.tf_buffer)
+        cls.scene = load_yaml('scenes', 'free_insertion.yaml')
+        cls.joystick = load_yaml('joystick', 'xbox.yaml')
+        while cls.command_pub.get_num_connections() == 0 or cls.joy_pub.get_num_connections() == 0:
+            time.sleep(0.1)
+
+    @classmethod
+    def _on_states(cls, msg):
+        with cls.lock:
+            cls.states = msg
+
+    @classmethod
+    def _on_stats(cls, msg):
+        with cls.lock:
+            cls.stats = msg
+
+    @classmethod
+    def _on_log(cls, msg):
+        if msg.name.endswith('navigation_node'):
+            with cls.lock:
+                cls.log.append(msg)
+
+    def setUp(self):
+        self.assertTrue(self.load_scene('free_insertion').success)
+        self.assertTrue(self.pause(False).success)
+        self.assertTrue(self.reset().success)
+        self.wait_for(lambda: self.stats is not None and self.stats.scene == 'free_insertion'
+                      and self.stats.sim_time < 0.5, 'fresh free_insertion frames')
+        with self.lock:
+            self.log.clear()  # the class's list, which the subscriber fills
+
+    # --- helpers ---------------------------------------------------------------
+    def wait_for(self, condition, what, timeout=20.0):
+        end = time.time() + timeout
+        while time.time() < end:
+            with self.lock:
+                if condition():
+                    return
+            time.sleep(0.02)
+        self.fail('timed out waiting for ' + what)
+
+    def device(self, name='guidewire'):
+        with self.lock:
+            return next(d for d in self.states.devices if d.name == name)
+
+    def sim_time(self):
+        with self.lock:
+            return self.stats.sim_time
+
+    def wait_sim(self, seconds):
+        t0 = self.sim_time()
+        self.wait_for(lambda: self.stats.sim_time >= t0 + seconds, 'simulated time to pass',
+                      timeout=30.0 + 5 * seconds)
+
+    def command(self, mode, insertion, rotation, device='guidewire'):
+        self.command_pub.publish(DeviceCommand(device=device, mode=mode, insertion=insertion,
+                                               rotation=rotation))
+
+    def warnings_containing(self, text):
+        with self.lock:
+            return [m.msg for m in self.log if m.level >= Log.WARN and text in m.msg]
+
+    def tip_frame_angle(self, axis):
+        """Angle of the tip frame's y axis about the insertion axis [rad]."""
+        t = self.tf_buffer.lookup_transform('world', 'guidewire/tip', rospy.Time(0),
+                                            rospy.Duration(5.0)).transform.rotation
+        y = quaternion_rotate((t.x, t.y, t.z, t.w), (0.0, 1.0, 0.0))
+        # components in the plane normal to the axis (axis = x here)
+        self.assertAlmostEqual(abs(axis[0]), 1.0)
+        return math.atan2(y[2], y[1])
+
+    # --- tests -----------------------------------------------------------------
+    def test_list_scenes_returns_the_shipped_files(self):
+        files = sorted(os.path.splitext(os.path.basename(p))[0]
+                       for p in glob.glob(os.path.join(CONFIG, 'scenes', '*.yaml')))
+        self.assertEqual(sorted(self.list_scenes().scenes), files)
+
+    def test_insertion_of_50_mm_moves_length_and_tip(self):
+        initial = self.scene['devices'][0]['inserted_length']
+        axis = self.scene['devices'][0]['insertion_direction']
+        self.assertAlmostEqual(self.device().inserted_length, initial, places=9)
+        tip0 = self.device().tip.position
+        self.command(DeviceCommand.POSITION, initial + 0.05, 0.0)
+        self.wait_for(lambda: abs(self.device().inserted_length - initial - 0.05) < 1e-9,
+                      'the inserted length to reach +50 mm')
+        self.wait_sim(0.5)  # let the free part settle
+        tip1 = self.device().tip.position
+        advance = sum((getattr(tip1, c) - getattr(tip0, c)) * a for c, a in zip('xyz', axis))
+        self.assertAlmostEqual(advance, 0.05, delta=0.003)
+
+    def test_rotation_turns_the_tip_frame(self):
+        axis = self.scene['devices'][0]['insertion_direction']
+        initial = self.scene['devices'][0]['inserted_length']
+        before = self.tip_frame_angle(axis)
+        self.command(DeviceCommand.POSITION, initial, math.pi / 2)
+        self.wait_for(lambda: abs(self.device().rotation - math.pi / 2) < 1e-9,
+                      'the rotation to reach 90 degrees')
+        self.wait_sim(0.5)
+        after = self.tip_frame_angle(axis)
+        turned = math.remainder(after - before, 2 * math.pi)
+        self.assertAlmostEqual(turned, math.pi / 2, delta=0.1)
+
+    def test_joystick_inserts_only_with_the_deadman_button(self):
+        m = self.joystick
+        axes = [0.0] * (max(m['insertion_axis'], m['rotation_axis']) + 1)
+        buttons = [0] * (max(m['deadman_button'], m['switch_device_button']) + 1)
+        axes[m['insertion_axis']] = 1.0
+        start = self.device().inserted_length
+        for _ in range(10):  # full deflection without the dead-man button
+            self.joy_pub.publish(Joy(axes=axes, buttons=buttons))
+            time.sleep(0.05)
+        self.wait_sim(0.2)
+        self.assertEqual(self.device().inserted_length, start)
+        buttons[m['deadman_button']] = 1
+        self.joy_pub.publish(Joy(axes=axes, buttons=buttons))
+        self.wait_for(lambda: self.device().inserted_length > start + 1e-4, 'joystick insertion')
+        with self.lock:
+            l0, t0 = self.device().inserted_length, self.stats.sim_time
+        self.wait_sim(0.3)
+        with self.lock:
+            l1, t1 = self.device().inserted_length, self.stats.sim_time
+        self.assertAlmostEqual((l1 - l0) / (t1 - t0), m['insertion_scale'], delta=0.002)
+        buttons[m['deadman_button']] = 0  # release: the device stops
+        self.joy_pub.publish(Joy(axes=axes, buttons=buttons))
+        self.wait_sim(0.1)
+        stopped = self.device().inserted_length
+        self.wait_sim(0.3)
+        self.assertEqual(self.device().inserted_length, stopped)
+
+    def test_joystick_message_too_short_is_refused(self):
+        self.joy_pub.publish(Joy(axes=[1.0], buttons=[1]))
+        self.wait_for(lambda: self.warnings_containing('joy message ignored'), 'a refusal')
+
+    def test_bad_commands_are_refused_and_the_state_is_kept(self):
+        self.wait_sim(0.2)
+        before = self.device().inserted_length
+        self.command(DeviceCommand.VELOCITY, float('nan'), 0.0)
+        self.wait_for(lambda: self.warnings_containing('finite'), 'the NaN refusal')
+        self.command(DeviceCommand.VELOCITY, 10.0, 0.0)
+        self.wait_for(lambda: self.warnings_containing('exceeds the limit'),
+                      'the out-of-range refusal')
+        self.command(DeviceCommand.VELOCITY, 0.01, 0.0, device='nope')
+        self.wait_for(lambda: self.warnings_containing("unknown device 'nope'"),
+                      'the unknown-device refusal')
+        self.command(7, 0.01, 0.0)
+        self.wait_for(lambda: self.warnings_containing('mode 7'), 'the unknown-mode refusal')
+        self.wait_sim(0.2)
+        self.assertEqual(self.device().inserted_length, before)
+        self.assertTrue(math.isfinite(self.device().tip.position.x))
+
+    def test_unknown_scene_is_refused_and_the_scene_keeps_running(self):
+        res = self.load_scene('nope')
+        self.assertFalse(res.success)
+        self.assertIn('nope', res.message)
+        t0 = self.sim_time()
+        self.wait_sim(0.2)
+        with self.lock:
+            self.assertEqual(self.stats.scene, 'free_insertion')
+            self.assertGreater(self.stats.sim_time, t0)
+
+    def test_load_scene_switches_and_topics_follow(self):
+        res = self.load_scene('aneurysm')
+        self.assertTrue(res.success, res.message)
+        device = load_yaml('scenes', 'aneurysm.yaml')['devices'][0]
+        self.wait_for(lambda: self.stats.scene == 'aneurysm', 'aneurysm stats')
+        with self.lock:
+            names = [d.name for d in self.states.devices]
+        self.assertEqual(names, ['coil'])
+        self.assertAlmostEqual(self.device('coil').inserted_length,
+                               device.get('inserted_length', 0.0), delta=0.002)
+        from nav_msgs.msg import Path
+        path = rospy.wait_for_message('devices/coil/path', Path, timeout=10)
+        self.assertGreater(len(path.poses), 10)
+
+    def test_reset_returns_to_the_initial_state(self):
+        initial = self.scene['devices'][0]['inserted_length']
+        self.command(DeviceCommand.VELOCITY, 0.02, 0.0)
+        self.wait_for(lambda: self.device().inserted_length > initial + 0.005, 'insertion')
+        self.assertTrue(self.reset().success)
+        self.wait_for(lambda: self.stats.sim_time < 0.2, 'time to restart')
+        self.assertAlmostEqual(self.device().inserted_length, initial, delta=0.02 * 0.2 + 1e-9)
+        self.wait_sim(0.3)  # the command was cleared by the reset
+        self.assertAlmostEqual(self.device().inserted_length, initial, places=9)
+
+    def test_pause_stops_and_resumes_simulated_time(self):
+        self.assertTrue(self.pause(True).success)
+        self.wait_for(lambda: self.stats.paused, 'paused stats')
+        t0 = self.sim_time()
+        time.sleep(0.5)
+        self.assertEqual(self.sim_time(), t0)
+        self.assertTrue(self.pause(False).success)
+        self.wait_for(lambda: self.stats.sim_time > t0 + 0.1, 'time to run again')
+
+
+if __name__ == '__main__':
+    rostest.rosrun('endovascular_sim', 'navigation_node', NavigationNodeTest)

@@ -1,0 +1,105 @@
+// The node's simulation loop: fixed steps per frame, commands, refusals,
+// reset, pause and solver options (no timing is asserted: waits are bounded
+// polls, results are compared with the scene files and the commands sent).
+#include "endovascular_sim/ros/simulation_loop.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <thread>
+
+namespace evsim {
+namespace {
+
+/// Polls until the condition holds (at most 30 s of wall time).
+bool eventually(const std::function<bool()>& condition) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (std::chrono::steady_clock::now() < end) {
+    if (condition()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
+}
+
+class Loop : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    model_ = std::make_shared<const SceneModel>(loadScene("free_insertion"));
+    loop_.setScene(model_, /*use_script=*/false);
+    loop_.start();
+  }
+  std::shared_ptr<const SceneModel> model_;
+  SimulationLoop loop_{100.0};  // 100 Hz frames
+};
+
+TEST_F(Loop, FramesHoldTheScenesFixedSteps) {
+  EXPECT_EQ(loop_.timing().steps_per_frame,
+            static_cast<int>(std::lround(0.01 / model_->time_step)));
+  ASSERT_TRUE(eventually([&] { return loop_.snapshot().step >= 30; }));
+  const FrameSnapshot f = loop_.snapshot();
+  EXPECT_NEAR(f.time, f.step * model_->time_step, 1e-12);  // whole steps only
+}
+
+TEST_F(Loop, PositionCommandReachesItsTarget) {
+  const double target = model_->initial_inserted_length[0] + 0.01;
+  DriveCommand c;
+  c.mode = DriveCommand::Mode::kPosition;
+  c.insertion = target;
+  EXPECT_EQ(loop_.setCommand("guidewire", c), "");
+  ASSERT_TRUE(eventually(
+      [&] { return std::abs(loop_.snapshot().devices[0].inserted_length - target) < 1e-12; }));
+}
+
+TEST_F(Loop, BadCommandsAreRefusedAndChangeNothing) {
+  DriveCommand c;
+  c.insertion = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(loop_.setCommand("guidewire", c).find("finite"), std::string::npos);
+  c.insertion = 0.01;
+  EXPECT_NE(loop_.setCommand("nope", c).find("unknown device 'nope'"), std::string::npos);
+  c.insertion = 10.0 * model_->devices[0].max_insertion_speed;
+  EXPECT_NE(loop_.setCommand("guidewire", c).find("exceeds the limit"), std::string::npos);
+  ASSERT_TRUE(eventually([&] { return loop_.snapshot().step >= 20; }));
+  EXPECT_EQ(loop_.snapshot().devices[0].inserted_length, model_->initial_inserted_length[0]);
+}
+
+TEST_F(Loop, ResetReturnsToTheInitialState) {
+  DriveCommand c;
+  c.insertion = 0.02;  // [m/s]
+  ASSERT_EQ(loop_.setCommand("guidewire", c), "");
+  ASSERT_TRUE(eventually([&] { return loop_.snapshot().time > 0.05; }));
+  loop_.setPaused(true);
+  loop_.reset();
+  const FrameSnapshot f = loop_.snapshot();
+  EXPECT_EQ(f.step, 0);
+  EXPECT_EQ(f.devices[0].inserted_length, model_->initial_inserted_length[0]);
+}
+
+TEST_F(Loop, PauseHoldsSimulatedTime) {
+  ASSERT_TRUE(eventually([&] { return loop_.snapshot().step > 0; }));
+  loop_.setPaused(true);
+  const long held = loop_.snapshot().step;
+  const long frames = loop_.timing().frames;
+  ASSERT_TRUE(eventually([&] { return loop_.timing().frames >= frames + 5; }));
+  EXPECT_EQ(loop_.snapshot().step, held);
+  loop_.setPaused(false);
+  ASSERT_TRUE(eventually([&] { return loop_.snapshot().step > held; }));
+}
+
+TEST_F(Loop, SolverOptionsAreValidatedBeforeTheyApply) {
+  ContactOptions o = model_->contact;
+  o.lcp.tolerance = -1.0;
+  EXPECT_NE(loop_.setContactOptions(o).find("tolerance"), std::string::npos);
+  EXPECT_EQ(loop_.model()->contact.lcp.tolerance, model_->contact.lcp.tolerance);
+  o.lcp.tolerance = 1e-8;
+  o.lcp.solver = LcpSolver::kPgs;
+  EXPECT_EQ(loop_.setContactOptions(o), "");
+  EXPECT_EQ(loop_.model()->contact.lcp.tolerance, 1e-8);
+  EXPECT_EQ(loop_.model()->contact.lcp.solver, LcpSolver::kPgs);
+  EXPECT_EQ(model_->contact.lcp.solver, LcpSolver::kStatusMethod);  // the old model is intact
+}
+
+}  // namespace
+}  // namespace evsim
