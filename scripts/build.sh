@@ -4,9 +4,17 @@
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 ws="$repo/build/ws"
-mkdir -p "$ws/src"
+pkg="$ws/src/endovascular_sim"
 touch "$repo/build/CATKIN_IGNORE"
-ln -sfn "$repo" "$ws/src/endovascular_sim"
+# The package in the workspace links each top-level entry of the repository
+# but build/: a link to the repository itself would hold the workspace inside
+# the package, a loop that rosrun and roslaunch walk without end.
+[ -L "$pkg" ] && rm "$pkg"
+mkdir -p "$pkg"
+for entry in "$repo"/* "$repo"/.clang-format; do
+  [ "$(basename "$entry")" = build ] || ln -sfn "$entry" "$pkg/$(basename "$entry")"
+done
+find "$pkg" -maxdepth 1 -xtype l -delete  # entries removed from the repository
 # Debian's catkin needs the system python (catkin_pkg lives there).
 export PATH="/usr/bin:$PATH"
 cd "$ws"

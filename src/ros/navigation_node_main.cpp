@@ -1,5 +1,7 @@
 #include <ros/ros.h>
 
+#include <iostream>
+
 #include "endovascular_sim/ros/navigation_node.h"
 
 int main(int argc, char** argv) {
@@ -8,6 +10,9 @@ int main(int argc, char** argv) {
     evsim::NavigationNode node(ros::NodeHandle(), ros::NodeHandle("~"));
     ros::spin();
   } catch (const std::exception& e) {
+    // Straight to stderr as well: rosconsole may not be up when the
+    // parameters are read, and a failed start must always say why.
+    std::cerr << ros::this_node::getName() << ": " << e.what() << std::endl;
     ROS_FATAL_STREAM(e.what());
     return 1;
   }

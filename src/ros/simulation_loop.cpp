@@ -145,8 +145,10 @@ void SimulationLoop::run() {
       ++timing_.frames;
       window_sim_s += simulated;
       const double window_s = std::chrono::duration<double>(now - window_start).count();
-      if (window_s >= 1.0) {
+      if (window_s >= 1.0 || timing_.frames * period_s_ < 1.0) {  // first second: so far
         timing_.real_time_factor = window_sim_s / window_s;
+      }
+      if (window_s >= 1.0) {
         window_start = now;
         window_sim_s = 0.0;
       }

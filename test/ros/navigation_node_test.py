@@ -8,10 +8,12 @@ files in config/scenes, and the commands the test itself sends.
 import glob
 import math
 import os
+import subprocess
 import threading
 import time
 import unittest
 
+import roslib.packages
 import rospy
 import rostest
 import tf2_ros
@@ -243,6 +245,22 @@ class NavigationNodeTest(unittest.TestCase):
         self.assertAlmostEqual(self.device().inserted_length, initial, delta=0.02 * 0.2 + 1e-9)
         self.wait_sim(0.3)  # the command was cleared by the reset
         self.assertAlmostEqual(self.device().inserted_length, initial, places=9)
+
+    def test_invalid_parameters_fail_fast_naming_each(self):
+        node = roslib.packages.find_node('endovascular_sim', 'navigation_node')[0]
+        run = subprocess.run([node, '__name:=bad_parameters', '_rate:=fast', '_plane_size:=1.0',
+                              '_vessel_mesh_rate:=0'], capture_output=True, text=True, timeout=60)
+        self.assertNotEqual(run.returncode, 0)
+        out = run.stdout + run.stderr
+        for name in ('~rate must be a number', '~plane_size', '~vessel_mesh_rate'):
+            self.assertIn(name, out)
+
+    def test_unloadable_start_scene_fails_fast(self):
+        node = roslib.packages.find_node('endovascular_sim', 'navigation_node')[0]
+        run = subprocess.run([node, '__name:=bad_scene', '_scene:=nope'], capture_output=True,
+                             text=True, timeout=60)
+        self.assertNotEqual(run.returncode, 0)
+        self.assertIn('nope', run.stdout + run.stderr)
 
     def test_pause_stops_and_resumes_simulated_time(self):
         self.assertTrue(self.pause(True).success)

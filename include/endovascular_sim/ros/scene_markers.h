@@ -13,7 +13,7 @@
 namespace evsim {
 
 struct MarkerStyle {
-  double force_scale{0.5};   // arrow length per force [m/N]
+  double force_scale{0.1};   // arrow length per force [m/N]
   double plane_size{0.003};  // side of a tangent-plane quad [m]
   int tube_sides{8};         // polygon of a device tube's cross-section
 };
