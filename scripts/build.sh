@@ -5,6 +5,7 @@ set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 ws="$repo/build/ws"
 pkg="$ws/src/endovascular_sim"
+mkdir -p "$ws/src"
 touch "$repo/build/CATKIN_IGNORE"
 # The package in the workspace links each top-level entry of the repository
 # but build/: a link to the repository itself would hold the workspace inside
