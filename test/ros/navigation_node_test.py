@@ -184,6 +184,16 @@ class NavigationNodeTest(unittest.TestCase):
         with self.lock:
             l1, t1 = self.device().inserted_length, self.stats.sim_time
         self.assertAlmostEqual((l1 - l0) / (t1 - t0), m['insertion_scale'], delta=0.002)
+        axes[m['insertion_axis']] = 0.0  # the rotation axis alone turns the device
+        axes[m['rotation_axis']] = 1.0
+        self.joy_pub.publish(Joy(axes=axes, buttons=buttons))
+        self.wait_sim(0.1)
+        with self.lock:
+            r0, t0 = self.device().rotation, self.stats.sim_time
+        self.wait_sim(0.3)
+        with self.lock:
+            r1, t1 = self.device().rotation, self.stats.sim_time
+        self.assertAlmostEqual((r1 - r0) / (t1 - t0), m['rotation_scale'], delta=0.2)
         buttons[m['deadman_button']] = 0  # release: the device stops
         self.joy_pub.publish(Joy(axes=axes, buttons=buttons))
         self.wait_sim(0.1)
@@ -261,6 +271,22 @@ class NavigationNodeTest(unittest.TestCase):
                              text=True, timeout=60)
         self.assertNotEqual(run.returncode, 0)
         self.assertIn('nope', run.stdout + run.stderr)
+
+    def test_solver_options_change_at_run_time(self):
+        import dynamic_reconfigure.client
+        client = dynamic_reconfigure.client.Client('navigation_node', timeout=30)
+        scene_contact = self.scene.get('contact', {})
+        config = client.update_configuration({'solver': 'pgs', 'max_activation_loops': 3})
+        self.assertEqual(config['solver'], 'pgs')
+        self.assertEqual(config['max_activation_loops'], 3)
+        self.wait_sim(0.1)  # the node keeps stepping with them
+        self.assertTrue(self.load_scene('free_insertion').success)  # back to the scene's own
+        expected = scene_contact.get('solver', 'status')
+        end = time.time() + 10  # the update arrives on parameter_updates
+        while client.get_configuration(timeout=10)['solver'] != expected and time.time() < end:
+            time.sleep(0.05)
+        self.assertEqual(client.get_configuration(timeout=10)['solver'], expected)
+        client.close()
 
     def test_pause_stops_and_resumes_simulated_time(self):
         self.assertTrue(self.pause(True).success)
