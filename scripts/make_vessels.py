@@ -127,7 +127,37 @@ config/scenes/aneurysm.yaml. Written by scripts/make_vessels.py.
 """)
 
 
+def dead_end():
+    t = Tree()
+    # A straight common-carotid-sized tube (5 mm lumen), 60 mm long, closed at
+    # its far end: a wire pushed on buckles and loops (stability suite).
+    t.vessel([(0, 0, -5), (0, 0, 25), (0, 0, 55)], 2.5, 2.5, -1, 4)
+    t.write(OUT / "dead_end.swc", """
+Straight 5 mm tube, 60 mm long, closed at its end (stability suite: a wire
+pushed into a dead end). Written by scripts/make_vessels.py.
+""")
+
+
+def tortuous():
+    t = Tree()
+    # A 4 mm lumen that winds through four hairpin-like bends whose centreline
+    # radius (about 3 mm) is close to the vessel radius (2 mm): concave walls
+    # on every outer side (stability suite). Parallel legs are 10 mm apart so
+    # that their walls stay separate.
+    ctrl = [(0, 0, -10), (0, 0, 15), (2, 0, 19), (5, 0, 20), (8, 0, 19), (10, 0, 15),
+            (10, 0, 0), (12, 0, -4), (15, 0, -5), (18, 0, -4), (20, 0, 0), (20, 0, 15),
+            (22, 0, 19), (25, 0, 20), (28, 0, 19), (30, 0, 15), (30, 0, -10)]
+    t.vessel(ctrl, 2.0, 2.0, -1, 4)
+    t.write(OUT / "tortuous.swc", """
+A 4 mm vessel through four tight bends (centreline bend radius about 3 mm,
+close to the 2 mm vessel radius), for the stability suite. Written by
+scripts/make_vessels.py.
+""")
+
+
 if __name__ == "__main__":
     OUT.mkdir(parents=True, exist_ok=True)
     carotid()
     aneurysm()
+    dead_end()
+    tortuous()

@@ -7,6 +7,8 @@
 //                                          vessel surface as PLY or STL
 //   evsim bench SCENE [--steps N] [--warmup N] [--elements E]
 //                                          step-time statistics (median, p99, Hz)
+//   evsim bench accuracy SCENE|beam|root [--duration S] [--csv FILE]
+//                                          accuracy knobs against their cost
 //   evsim list                             shipped scenes
 #include <algorithm>
 #include <chrono>
@@ -18,10 +20,12 @@
 #include <iostream>
 #include <string>
 
+#include "accuracy_sweep.h"
 #include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/geometry/surface_mesh.h"
 #include "endovascular_sim/scene/scene_file.h"
 #include "endovascular_sim/sim/simulation.h"
+#include "scene_variants.h"
 #include "step_json.h"
 
 namespace evsim {
@@ -34,6 +38,7 @@ int usage(const char* why = nullptr) {
                "                                         SCENE: a path or a shipped scene name\n"
                "  evsim mesh SCENE --out FILE.ply|.stl [--spacing M] [--device-radius M]\n"
                "  evsim bench SCENE [--steps N] [--warmup N] [--elements E]\n"
+               "  evsim bench accuracy SCENE|beam|root [--duration S] [--csv FILE]\n"
                "  evsim list                             the shipped scenes\n";
   return 2;
 }
@@ -94,19 +99,9 @@ int runCommand(int argc, char** argv) {
   return 0;
 }
 
-/// Scales every device's element counts so that each has about `elements`.
-void setElementCount(SceneSpec* spec, int elements) {
-  for (auto& d : spec->devices) {
-    int total = 0;
-    for (const auto& sec : d.device.sections) total += sec.elements;
-    for (auto& sec : d.device.sections)
-      sec.elements =
-          std::max(1, static_cast<int>(std::lround(1.0 * sec.elements * elements / total)));
-  }
-}
-
 int benchCommand(int argc, char** argv) {
   if (argc < 1) return usage("bench needs a SCENE");
+  if (!std::strcmp(argv[0], "accuracy")) return accuracyCommand(argc - 1, argv + 1);
   long steps = 3000, warmup = 0;
   int elements = 0;
   for (int i = 1; i < argc; ++i) {

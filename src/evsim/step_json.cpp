@@ -31,7 +31,8 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
     const Vec3& tip = d.position.back();
     o << (i ? "," : "") << "{\"name\":\"" << model.devices[i].name << "\",\"tip\":[" << num(tip.x())
       << "," << num(tip.y()) << "," << num(tip.z()) << "],\"inserted_m\":" << num(d.inserted_length)
-      << ",\"rotation_rad\":" << num(d.rotation_angle) << "}";
+      << ",\"rotation_rad\":" << num(d.rotation_angle)
+      << ",\"kinetic_energy_J\":" << num(kineticEnergy(model.devices[i], d)) << "}";
   }
   o << "]}";
   return o.str();

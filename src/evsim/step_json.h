@@ -8,7 +8,7 @@
 namespace evsim {
 
 /// {"step", "t" [s], "wall_ms", "contacts", "max_penetration_m", stage times,
-///  "devices": [{"name", "tip" [m, xyz], "inserted_m", "rotation_rad"}]}
+///  "devices": [{"name", "tip" [m, xyz], "inserted_m", "rotation_rad", "kinetic_energy_J"}]}
 std::string stepJson(const SceneModel& model, const SimData& data);
 
 }  // namespace evsim

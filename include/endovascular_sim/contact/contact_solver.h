@@ -8,9 +8,10 @@
 //             violation becomes a new contact; a contact violated again after
 //             its update gets a second plane (concave walls: updates alone can
 //             oscillate, an added plane only shrinks the admissible set)
-//   pairs     with the effect 'device_contact', device points closer than
-//             the sum of their radii (same device: more than a few radii
-//             apart along it) are pair contacts in the same LCP
+//   persist   a wall contact that carried a force in the previous step starts
+//             this one too, its plane updated at x_t: a pre-shaped tip held
+//             against the wall springs back out in the free motion, and
+//             without its contact the first loops chase it millimetres away
 //   pairs     with the effect 'device_contact', device points closer than
 //             the sum of their radii (same device: more than a few radii
 //             apart along it) are pair contacts in the same LCP
@@ -98,6 +99,10 @@ struct ContactProblem {
   const ImplicitSurface* surface{nullptr};
   MotionSnapshot motion;       // of the surface at the end of the step
   LcpRecord* record{nullptr};  // when set, receives the last LCP
+  /// Contacts of the previous step: a wall contact that carried a force
+  /// starts this step as a contact again, its tangent plane updated where its
+  /// point now projects on the wall (null or empty: detection alone).
+  const std::vector<Contact>* previous{nullptr};
 };
 
 /// Corrects ws.dq of every device so that no sample point lies beyond the

@@ -262,6 +262,21 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     }
     flush();
   }
+  // Wall contacts that carried a force in the previous step, planes at x_t.
+  if (pb.previous && pb.surface) {
+    for (const Contact& prev : *pb.previous) {
+      if (prev.other_device >= 0 || prev.force <= 0.0 || prev.device >= static_cast<int>(nd))
+        continue;
+      const int d = prev.device, k = prev.sample;
+      const SamplePoint& s = samples[d][k];
+      if (contact_of[d][k] >= 0 || !isFree(s, ws[d].first_free_node)) continue;
+      const SurfacePoint plane = projectToSurface(
+          *pb.surface, samplePosition(devices[d], start[d], s), s.radius, pb.motion, 0.01, o.root);
+      if (!plane.hit) continue;
+      contact_of[d][k] = static_cast<int>(contacts->size());
+      contacts->push_back({d, k, plane.point, plane.normal, 0, 0});
+    }
+  }
   // Device points closer than the sum of their radii at x_f.
   std::map<std::array<int, 4>, int> pair_contact;  // (device, sample, device, sample) -> contact
   auto normalOf = [&](const std::vector<DeviceState>& x, const PointRef& a, const PointRef& b) {
@@ -297,17 +312,27 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       double sign;
     };
     std::vector<std::vector<Part>> parts(nd);
+    // The rows are linearised at x, the configuration of the last loop (x_f
+    // in the first): g(x_f + A^-1 H^T lambda) ~ g(x) + H (x_f - x) + W lambda.
+    // Linearised at x_f throughout, a loop whose correction moves points far
+    // from x_f (a pre-shaped tip squeezed into a narrow lumen springs open by
+    // millimetres in the free motion) keeps stale rows and stops converging.
+    auto lagOf = [&](int device, const SamplePoint& s, const Vec3& n) {
+      const Row12 h = contactRow(devices[device], x[device], s, n);
+      return h.dot((dq_free[device] - dq[device]).segment(6 * s.element, 12));
+    };
     for (int i = 0; i < c; ++i) {
       const Contact& ct = (*contacts)[i];
       const SamplePoint& s = samples[ct.device][ct.sample];
-      const Vec3 p = samplePosition(devices[ct.device], xf[ct.device], s);
+      const Vec3 p = samplePosition(devices[ct.device], x[ct.device], s);
       parts[ct.device].push_back({i, ct.sample, 1.0});
       if (ct.other_device < 0) {
-        q(i) = ct.normal.dot(p - ct.point);
+        q(i) = ct.normal.dot(p - ct.point) + lagOf(ct.device, s, ct.normal);
       } else {
         const SamplePoint& so = samples[ct.other_device][ct.other_sample];
-        const Vec3 po = samplePosition(devices[ct.other_device], xf[ct.other_device], so);
-        q(i) = ct.normal.dot(p - po) - (s.radius + so.radius);
+        const Vec3 po = samplePosition(devices[ct.other_device], x[ct.other_device], so);
+        q(i) = ct.normal.dot(p - po) - (s.radius + so.radius) + lagOf(ct.device, s, ct.normal) -
+               lagOf(ct.other_device, so, ct.normal);
         parts[ct.other_device].push_back({i, ct.other_sample, -1.0});
       }
     }
@@ -319,7 +344,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       std::map<int, int> column;  // contact -> column
       for (const Part& pt : parts[d]) {
         const SamplePoint& s = samples[d][pt.sample];
-        const Row12 h = pt.sign * contactRow(devices[d], xf[d], s, (*contacts)[pt.contact].normal);
+        const Row12 h = pt.sign * contactRow(devices[d], x[d], s, (*contacts)[pt.contact].normal);
         const int offset = 6 * (s.element - ws[d].first_free_node);
         const auto it = column.find(pt.contact);
         if (it == column.end()) {

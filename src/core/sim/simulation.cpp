@@ -54,9 +54,11 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     }
     addStats(t, &data->stats);
   }
-  data->contacts.clear();
+  std::vector<Contact> previous;  // the last (sub-)step's contacts: persisting planes
+  previous.swap(data->contacts);
   if (model.surface || model.contact.device_contact) {
     ContactProblem pb;
+    pb.previous = &previous;
     pb.devices = &model.devices;
     pb.start = next;
     pb.workspaces = &data->workspaces;
@@ -71,6 +73,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     const bool solved = resolveContacts(pb, model.contact, &data->contacts, &cs);
     addTimes(cs, &data->stats);
     if (!solved) {
+      data->contacts.swap(previous);  // a subdivided step starts from them again
       data->last_error = "contacts not solved after " +
                          std::to_string(model.contact.max_activation_loops) +
                          " activation loops (deepest point " +
