@@ -5,8 +5,9 @@
 //                                          write each step's last LCP to DIR
 //   evsim mesh SCENE --out FILE [--spacing M] [--device-radius M]
 //                                          vessel surface as PLY or STL
-//   evsim bench SCENE [--steps N] [--warmup N] [--elements E]
-//                                          step-time statistics (median, p99, Hz)
+//   evsim bench SCENE [--steps N] [--warmup N] [--elements E] [--effects A,B]
+//                                          step-time statistics (median, p99, Hz);
+//                                          --effects replaces the scene's effects
 //   evsim bench accuracy SCENE|beam|root [--duration S] [--csv FILE]
 //                                          accuracy knobs against their cost
 //   evsim list                             shipped scenes
@@ -37,7 +38,7 @@ int usage(const char* why = nullptr) {
                "  evsim run SCENE [--steps N] [--json] [--dump-lcp DIR]\n"
                "                                         SCENE: a path or a shipped scene name\n"
                "  evsim mesh SCENE --out FILE.ply|.stl [--spacing M] [--device-radius M]\n"
-               "  evsim bench SCENE [--steps N] [--warmup N] [--elements E]\n"
+               "  evsim bench SCENE [--steps N] [--warmup N] [--elements E] [--effects A,B]\n"
                "  evsim bench accuracy SCENE|beam|root [--duration S] [--csv FILE]\n"
                "  evsim list                             the shipped scenes\n";
   return 2;
@@ -104,6 +105,8 @@ int benchCommand(int argc, char** argv) {
   if (!std::strcmp(argv[0], "accuracy")) return accuracyCommand(argc - 1, argv + 1);
   long steps = 3000, warmup = 0;
   int elements = 0;
+  std::string effects;  // --effects a,b,c replaces the scene's list ("" = none)
+  bool have_effects = false;
   for (int i = 1; i < argc; ++i) {
     char* end = nullptr;
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) {
@@ -112,6 +115,10 @@ int benchCommand(int argc, char** argv) {
       warmup = std::strtol(argv[++i], &end, 10);
     } else if (!std::strcmp(argv[i], "--elements") && i + 1 < argc) {
       elements = static_cast<int>(std::strtol(argv[++i], &end, 10));
+    } else if (!std::strcmp(argv[i], "--effects") && i + 1 < argc) {
+      effects = argv[++i];
+      have_effects = true;
+      continue;
     } else {
       return usage((std::string("unknown argument ") + argv[i]).c_str());
     }
@@ -120,6 +127,10 @@ int benchCommand(int argc, char** argv) {
   }
   SceneSpec spec = loadSceneFile(resolveScenePath(argv[0]));
   if (elements > 0) setElementCount(&spec, elements);
+  if (have_effects) {
+    const std::string why = setEffects(&spec, effects);
+    if (!why.empty()) return usage(why.c_str());
+  }
   const SceneModel model = buildSceneModel(spec);
   SimData data = makeData(model);
   for (long k = 0; k < warmup; ++k)
@@ -150,8 +161,10 @@ int benchCommand(int argc, char** argv) {
   int nodes = 0;
   for (const auto& d : model.devices) nodes += d.num_nodes - 1;
   std::sort(contacts.begin(), contacts.end());
-  std::printf("scene %s: %zu device(s), %d elements, %ld steps after %ld warm-up\n",
-              model.name.c_str(), model.devices.size(), nodes, steps, warmup);
+  std::string effect_list;
+  for (const auto& e : spec.effects) effect_list += (effect_list.empty() ? "" : ",") + e;
+  std::printf("scene %s: %zu device(s), %d elements, effects [%s], %ld steps after %ld warm-up\n",
+              model.name.c_str(), model.devices.size(), nodes, effect_list.c_str(), steps, warmup);
   std::printf(
       "step [ms]: median %.3f  mean %.3f  p90 %.3f  p99 %.3f  max %.3f  -> %.0f Hz at the median\n",
       pct(0.5), mean, pct(0.9), pct(0.99), sorted.back(), 1e3 / pct(0.5));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace evsim {
 
@@ -13,6 +14,24 @@ void setElementCount(SceneSpec* spec, int elements) {
       sec.elements =
           std::max(1, static_cast<int>(std::lround(1.0 * sec.elements * elements / total)));
   }
+}
+
+std::string setEffects(SceneSpec* spec, const std::string& list) {
+  std::vector<std::string> effects;
+  std::stringstream in(list);
+  for (std::string name; std::getline(in, name, ',');) {
+    if (name.empty()) continue;
+    const auto& known = knownEffects();
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      return "unknown effect '" + name + "'";
+    if (name == "vessel_motion" && spec->vessels.motion.empty())
+      return "vessel_motion needs a scene with motion regions";
+    effects.push_back(name);
+  }
+  spec->effects = effects;
+  spec->contact.device_contact =
+      std::find(effects.begin(), effects.end(), "device_contact") != effects.end();
+  return "";
 }
 
 int elementCount(const SceneSpec& spec) {

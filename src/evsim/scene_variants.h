@@ -12,4 +12,9 @@ void setElementCount(SceneSpec* spec, int elements);
 /// Elements of the scene's first device.
 int elementCount(const SceneSpec& spec);
 
+/// Replaces the scene's effects by a comma-separated list ("" = none);
+/// returns why it cannot ("" when done): an unknown name, or vessel_motion
+/// without motion regions.
+std::string setEffects(SceneSpec* spec, const std::string& list);
+
 }  // namespace evsim

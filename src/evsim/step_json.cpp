@@ -22,7 +22,9 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
     << ",\"factorization_ms\":" << num(s.factorization_ms) << ",\"solve_ms\":" << num(s.solve_ms)
     << ",\"detection_ms\":" << num(s.detection_ms) << ",\"delassus_ms\":" << num(s.delassus_ms)
     << ",\"lcp_ms\":" << num(s.lcp_ms) << ",\"correction_ms\":" << num(s.correction_ms)
-    << ",\"contacts\":" << s.contacts << ",\"active_contacts\":" << s.active_contacts
+    << ",\"vessel_motion_ms\":" << num(s.vessel_motion_ms)
+    << ",\"device_contact_ms\":" << num(s.device_contact_ms) << ",\"contacts\":" << s.contacts
+    << ",\"active_contacts\":" << s.active_contacts
     << ",\"activation_loops\":" << s.activation_loops << ",\"lcp_iterations\":" << s.lcp_iterations
     << ",\"lcp_residual\":" << num(s.lcp_residual) << ",\"subdivisions\":" << s.subdivisions
     << ",\"max_penetration_m\":" << num(s.max_penetration_m) << ",\"devices\":[";

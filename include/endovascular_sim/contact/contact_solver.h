@@ -73,6 +73,8 @@ struct ContactStats {
   double delassus_ms{0.0};
   double lcp_ms{0.0};
   double correction_ms{0.0};
+  double pairs_ms{0.0};  // device-pair detection (part of detection_ms)
+  int pair_passes{0};    // device-pair detection passes (effect 'device_contact')
 };
 
 /// The LCP of the last activation loop (for dumps and offline comparisons).

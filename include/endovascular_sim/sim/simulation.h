@@ -23,10 +23,23 @@
 
 namespace evsim {
 
-/// Effects switched on by the scene. An effect that is off costs nothing.
+/// Effects switched on by the scene. An effect that is off costs nothing: its
+/// code is never entered (EffectCounters proves it) and nothing is allocated
+/// for it.
 struct EffectSet {
-  bool gravity{false};
-  bool vessel_motion{false};
+  bool gravity{false};         // the weight of every node in the free motion
+  bool vessel_motion{false};   // the motion regions of the vessels
+  bool device_contact{false};  // pairs of device points (devices, a coil with itself)
+  bool subdivision{false};     // an unsolved step is redone as halves
+};
+
+/// How often each effect's code ran since makeData (tests read them: an
+/// effect that is off stays at zero).
+struct EffectCounters {
+  long gravity{0};         // free motions loaded with gravity
+  long vessel_motion{0};   // motion snapshots of the vessels
+  long device_contact{0};  // passes of device-pair detection
+  long subdivision{0};     // steps halved
 };
 
 struct SceneModel {
@@ -48,17 +61,19 @@ struct SceneModel {
 
 /// Statistics of the last step (reset every step; sums over its sub-steps).
 struct StepStats {
-  double wall_ms{0.0};           // whole step [ms]
-  double assembly_ms{0.0};       // [ms], all devices
-  double factorization_ms{0.0};  // [ms]
-  double solve_ms{0.0};          // [ms]
-  double detection_ms{0.0};      // [ms] first roots, re-detection, plane updates
-  double delassus_ms{0.0};       // [ms] W = H A^-1 H^T
-  double lcp_ms{0.0};            // [ms] status method (or the chosen solver)
-  double correction_ms{0.0};     // [ms] x = x_f + A^-1 H^T lambda
-  int contacts{0};               // contacts of the last LCP
-  int active_contacts{0};        // with a positive force
-  int activation_loops{0};       // most loops of a (sub-)step
+  double wall_ms{0.0};            // whole step [ms]
+  double assembly_ms{0.0};        // [ms], all devices
+  double factorization_ms{0.0};   // [ms]
+  double solve_ms{0.0};           // [ms]
+  double detection_ms{0.0};       // [ms] first roots, re-detection, plane updates
+  double delassus_ms{0.0};        // [ms] W = H A^-1 H^T
+  double lcp_ms{0.0};             // [ms] status method (or the chosen solver)
+  double correction_ms{0.0};      // [ms] x = x_f + A^-1 H^T lambda
+  double vessel_motion_ms{0.0};   // [ms] effect 'vessel_motion': the motion snapshot
+  double device_contact_ms{0.0};  // [ms] effect 'device_contact': pair detection
+  int contacts{0};                // contacts of the last LCP
+  int active_contacts{0};         // with a positive force
+  int activation_loops{0};        // most loops of a (sub-)step
   int lcp_iterations{0};
   double lcp_residual{0.0};       // worst natural-map residual
   int subdivisions{0};            // sub-steps added by halving
@@ -78,6 +93,7 @@ struct SimData {
   LcpRecord lcp;
   size_t next_script_entry{0};
   StepStats stats;
+  EffectCounters effect_calls;
   std::string last_error;  // why the last failed step was rejected
 };
 

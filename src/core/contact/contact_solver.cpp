@@ -289,9 +289,12 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     contacts->push_back(ct);
   };
   if (o.device_contact) {
+    const auto tp = Clock::now();
     const std::vector<PointRef> pts = freePoints(devices, xf, samples, ws);
     for (const Pair& pr : findPairs(devices, pts, 0.0))
       addPair(pts[pr.a], pts[pr.b], normalOf(xf, pts[pr.a], pts[pr.b]));
+    ++st->pair_passes;
+    st->pairs_ms += msSince(tp);
   }
   st->detection_ms += msSince(t0);
 
@@ -438,6 +441,8 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     }
     st->max_penetration_m = deepest;
     if (o.device_contact) {
+      const auto tp = Clock::now();
+      ++st->pair_passes;
       const std::vector<PointRef> pts = freePoints(devices, x, samples, ws);
       for (const Pair& pr : findPairs(devices, pts, -o.penetration_tolerance)) {
         solved = false;
@@ -453,6 +458,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
           updated.push_back(0);
         }
       }
+      st->pairs_ms += msSince(tp);
     }
     st->detection_ms += msSince(t0);
   }

@@ -49,13 +49,14 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
   A.resize(n);
   const int nf = n - first_free;
   ws->rhs.resize(6 * nf);
+  const bool with_gravity = !gravity.isZero(0.0);  // effect 'gravity' off: zero
   for (int i = 0; i < n; ++i) {
     const Mat6 M = nodeMass(model, state, i);
     A.diag[i] = cm * M + ck * ws->stiffness.diag[i];
     if (i + 1 < n) A.upper[i] = ck * ws->stiffness.upper[i];
     if (i < first_free) continue;
-    Vec6 f;
-    f << model.node_mass[i] * gravity, Vec3::Zero();
+    Vec6 f = Vec6::Zero();
+    if (with_gravity) f.head<3>() = model.node_mass[i] * gravity;
     Vec6 v;
     v << state.velocity[i], state.angular_velocity[i];
     ws->rhs.segment<6>(6 * (i - first_free)) =

@@ -185,7 +185,8 @@ ScriptedCommand readCommand(const YamlReader& r, const YAML::Node& n, int index,
 }  // namespace
 
 const std::vector<std::string>& knownEffects() {
-  static const std::vector<std::string> effects = {"gravity", "vessel_motion", "device_contact"};
+  static const std::vector<std::string> effects = {"gravity", "vessel_motion", "device_contact",
+                                                    "subdivision"};
   return effects;
 }
 

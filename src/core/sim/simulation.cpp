@@ -28,6 +28,7 @@ void addTimes(const ContactStats& c, StepStats* s) {
   s->delassus_ms += c.delassus_ms;
   s->lcp_ms += c.lcp_ms;
   s->correction_ms += c.correction_ms;
+  s->device_contact_ms += c.pairs_ms;
 }
 
 void addResults(const ContactStats& c, StepStats* s) {
@@ -45,6 +46,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
   *next = data->devices;
   for (size_t i = 0; i < model.devices.size(); ++i) {
     advanceDrive(data->commands[i], model.devices[i], dt, &(*next)[i]);
+    if (model.effects.gravity) ++data->effect_calls.gravity;
     FreeMotionTimes t;
     if (!computeFreeMotion(model.devices[i], model.introducers[i], model.gravity, dt, (*next)[i],
                            &data->workspaces[i], &t)) {
@@ -64,7 +66,13 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     pb.workspaces = &data->workspaces;
     pb.samples = &model.samples;
     pb.surface = model.surface.get();
-    if (model.effects.vessel_motion) pb.motion = model.surface->motionAt(data->time + dt);
+    if (model.effects.vessel_motion) {
+      const auto t0 = Clock::now();
+      pb.motion = model.surface->motionAt(data->time + dt);
+      ++data->effect_calls.vessel_motion;
+      data->stats.vessel_motion_ms +=
+          std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    }
     if (data->record_lcp) {
       data->lcp = LcpRecord{};
       pb.record = &data->lcp;
@@ -72,6 +80,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     ContactStats cs;
     const bool solved = resolveContacts(pb, model.contact, &data->contacts, &cs);
     addTimes(cs, &data->stats);
+    data->effect_calls.device_contact += cs.pair_passes;
     if (!solved) {
       data->contacts.swap(previous);  // a subdivided step starts from them again
       data->last_error = "contacts not solved after " +
@@ -104,8 +113,10 @@ StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth)
     data->time += dt;
     return status;
   }
-  if (status != StepStatus::kContactsUnsolved || depth >= model.contact.max_subdivisions)
+  if (status != StepStatus::kContactsUnsolved || !model.effects.subdivision ||
+      depth >= model.contact.max_subdivisions)
     return status;
+  ++data->effect_calls.subdivision;
   const std::vector<DeviceState> saved = data->devices;
   const double saved_time = data->time;
   data->stats.subdivisions += 1;
@@ -132,6 +143,10 @@ SceneModel buildSceneModel(const SceneSpec& spec) {
       m.effects.gravity = true;
     else if (e == "vessel_motion")
       m.effects.vessel_motion = true;
+    else if (e == "device_contact")
+      m.effects.device_contact = true;
+    else if (e == "subdivision")
+      m.effects.subdivision = true;
   if (m.effects.gravity) m.gravity = spec.gravity;
   if (spec.vessels.present) {
     m.vessels = std::make_shared<const VesselField>(
