@@ -41,9 +41,13 @@ void SimulationLoop::setScene(std::shared_ptr<const SceneModel> model, bool use_
   use_script_ = use_script;
   data_ = makeData(*model_);
   if (!use_script_) data_.next_script_entry = model_->script.size();
-  timing_ = LoopTiming{};
-  timing_.steps_per_frame = stepsPerFrame(period_s_, model_->time_step);
-  last_error_.clear();
+  {
+    std::lock_guard<std::mutex> status(status_mutex_);
+    timing_ = LoopTiming{};
+    timing_.steps_per_frame = stepsPerFrame(period_s_, model_->time_step);
+    last_error_.clear();
+  }
+  shareState();
 }
 
 void SimulationLoop::reset() {
@@ -51,12 +55,17 @@ void SimulationLoop::reset() {
   if (!model_) return;
   data_ = makeData(*model_);
   if (!use_script_) data_.next_script_entry = model_->script.size();
-  last_error_.clear();
+  {
+    std::lock_guard<std::mutex> status(status_mutex_);
+    last_error_.clear();
+  }
+  shareState();
 }
 
 void SimulationLoop::setPaused(bool paused) {
   const auto lock = lockForCaller();
   paused_ = paused;
+  shareState();
 }
 
 std::string SimulationLoop::setCommand(const std::string& device, const DriveCommand& command) {
@@ -73,16 +82,11 @@ std::string SimulationLoop::setContactOptions(const ContactOptions& options) {
   auto model = std::make_shared<SceneModel>(*model_);  // models are immutable: swap a copy
   model->contact = options;
   model_ = std::move(model);
+  shareState();
   return "";
 }
 
-std::shared_ptr<const SceneModel> SimulationLoop::model() const {
-  const auto lock = lockForCaller();
-  return model_;
-}
-
-FrameSnapshot SimulationLoop::snapshot() const {
-  const auto lock = lockForCaller();
+void SimulationLoop::shareState() {
   FrameSnapshot f;
   f.model = model_;
   f.time = data_.time;
@@ -91,39 +95,53 @@ FrameSnapshot SimulationLoop::snapshot() const {
   f.devices = data_.devices;
   f.contacts = data_.contacts;
   f.stats = data_.stats;
-  if (model_ && model_->surface) f.motion = model_->surface->motionAt(data_.time);
+  std::lock_guard<std::mutex> status(status_mutex_);
+  latest_ = std::move(f);
+}
+
+std::shared_ptr<const SceneModel> SimulationLoop::model() const {
+  std::lock_guard<std::mutex> status(status_mutex_);
+  return latest_.model;
+}
+
+FrameSnapshot SimulationLoop::snapshot() const {
+  FrameSnapshot f;
+  {
+    std::lock_guard<std::mutex> status(status_mutex_);
+    f = latest_;
+  }
+  if (f.model && f.model->surface) f.motion = f.model->surface->motionAt(f.time);
   return f;
 }
 
 LoopTiming SimulationLoop::timing() const {
-  const auto lock = lockForCaller();
+  std::lock_guard<std::mutex> status(status_mutex_);
   return timing_;
 }
 
 std::string SimulationLoop::lastError() const {
-  const auto lock = lockForCaller();
+  std::lock_guard<std::mutex> status(status_mutex_);
   return last_error_;
 }
 
 double SimulationLoop::runFrame() {
-  int steps = 0;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (!model_) return 0.0;
-    steps = timing_.steps_per_frame;
-  }
+  const int steps = timing().steps_per_frame;
   double simulated = 0.0;
   for (int k = 0; k < steps && running_; ++k) {
-    // The lock is taken per step and handed to waiting callers between steps,
-    // so commands, services and the publisher wait at most one step.
+    // The state lock is taken per step and handed to waiting callers between
+    // steps (commands and services wait at most one step); the publisher
+    // reads the state shared after each step and never waits for one.
     while (waiters_ > 0) std::this_thread::yield();
     std::lock_guard<std::mutex> lock(mutex_);
     if (paused_ || !model_) break;
-    if (step(*model_, &data_) != StepStatus::kOk) {
+    const StepStatus status = step(*model_, &data_);
+    if (status != StepStatus::kOk) {
+      std::lock_guard<std::mutex> status_lock(status_mutex_);
       last_error_ = data_.last_error;  // the state is kept; try again next frame
       break;
     }
     simulated += model_->time_step;
+    shareState();
   }
   return simulated;
 }
@@ -140,7 +158,7 @@ void SimulationLoop::run() {
     const auto now = Clock::now();
     deadline += period;
     {
-      std::lock_guard<std::mutex> lock(mutex_);
+      std::lock_guard<std::mutex> status(status_mutex_);
       timing_.frame_ms = std::chrono::duration<double, std::milli>(now - frame_start).count();
       ++timing_.frames;
       window_sim_s += simulated;

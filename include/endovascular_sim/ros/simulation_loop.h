@@ -54,12 +54,18 @@ class SimulationLoop {
   /// Runs one frame's steps; returns the simulated time [s].
   double runFrame();
 
+  /// Copies what the publisher shows into latest_ (mutex_ held).
+  void shareState();
+
   const double period_s_;
-  mutable std::mutex mutex_;  // guards everything below
+  mutable std::mutex mutex_;  // the simulation: held for a whole step
   std::shared_ptr<const SceneModel> model_;
   SimData data_;
   bool use_script_{true};
   bool paused_{false};
+
+  mutable std::mutex status_mutex_;  // what others read: held only to copy
+  FrameSnapshot latest_;             // the state after the last step
   LoopTiming timing_;
   std::string last_error_;
 
