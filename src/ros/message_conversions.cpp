@@ -2,21 +2,23 @@
 
 namespace evsim {
 
-geometry_msgs::Point toPoint(const Vec3& p) {
-  geometry_msgs::Point m;
-  m.x = p.x();
-  m.y = p.y();
-  m.z = p.z();
-  return m;
-}
+namespace {
 
-geometry_msgs::Vector3 toVector3(const Vec3& v) {
-  geometry_msgs::Vector3 m;
+/// Any message with x, y, z fields.
+template <typename Xyz>
+Xyz toXyz(const Vec3& v) {
+  Xyz m;
   m.x = v.x();
   m.y = v.y();
   m.z = v.z();
   return m;
 }
+
+}  // namespace
+
+geometry_msgs::Point toPoint(const Vec3& p) { return toXyz<geometry_msgs::Point>(p); }
+
+geometry_msgs::Vector3 toVector3(const Vec3& v) { return toXyz<geometry_msgs::Vector3>(v); }
 
 geometry_msgs::Quaternion toQuaternion(const Quat& q) {
   geometry_msgs::Quaternion m;

@@ -309,10 +309,10 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     t0 = Clock::now();
     MatX W = MatX::Zero(c, c);
     VecX q(c);
-    // Parts of each row per device: (contact, sample, sign).
+    // Parts of each row per device: (contact, sample, signed row of H).
     struct Part {
       int contact, sample;
-      double sign;
+      Row12 h;
     };
     std::vector<std::vector<Part>> parts(nd);
     // The rows are linearised at x, the configuration of the last loop (x_f
@@ -320,23 +320,26 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     // Linearised at x_f throughout, a loop whose correction moves points far
     // from x_f (a pre-shaped tip squeezed into a narrow lumen springs open by
     // millimetres in the free motion) keeps stale rows and stops converging.
-    auto lagOf = [&](int device, const SamplePoint& s, const Vec3& n) {
-      const Row12 h = contactRow(devices[device], x[device], s, n);
-      return h.dot((dq_free[device] - dq[device]).segment(6 * s.element, 12));
+    // Adds the part's row of H at x; returns its share of H (x_f - x).
+    auto addPart = [&](int contact, int device, int sample, const Vec3& n, double sign) {
+      const SamplePoint& s = samples[device][sample];
+      const Row12 h = sign * contactRow(devices[device], x[device], s, n);
+      parts[device].push_back({contact, sample, h});
+      const int at = 6 * s.element;
+      return h.dot(dq_free[device].segment<12>(at) - dq[device].segment<12>(at));
     };
     for (int i = 0; i < c; ++i) {
       const Contact& ct = (*contacts)[i];
       const SamplePoint& s = samples[ct.device][ct.sample];
       const Vec3 p = samplePosition(devices[ct.device], x[ct.device], s);
-      parts[ct.device].push_back({i, ct.sample, 1.0});
+      q(i) = addPart(i, ct.device, ct.sample, ct.normal, 1.0);
       if (ct.other_device < 0) {
-        q(i) = ct.normal.dot(p - ct.point) + lagOf(ct.device, s, ct.normal);
+        q(i) += ct.normal.dot(p - ct.point);
       } else {
         const SamplePoint& so = samples[ct.other_device][ct.other_sample];
         const Vec3 po = samplePosition(devices[ct.other_device], x[ct.other_device], so);
-        q(i) = ct.normal.dot(p - po) - (s.radius + so.radius) + lagOf(ct.device, s, ct.normal) -
-               lagOf(ct.other_device, so, ct.normal);
-        parts[ct.other_device].push_back({i, ct.other_sample, -1.0});
+        q(i) += ct.normal.dot(p - po) - (s.radius + so.radius) +
+                addPart(i, ct.other_device, ct.other_sample, ct.normal, -1.0);
       }
     }
     std::vector<std::vector<int>> of_device(nd);  // contacts with a part on each device
@@ -347,7 +350,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       std::map<int, int> column;  // contact -> column
       for (const Part& pt : parts[d]) {
         const SamplePoint& s = samples[d][pt.sample];
-        const Row12 h = pt.sign * contactRow(devices[d], x[d], s, (*contacts)[pt.contact].normal);
+        const Row12& h = pt.h;
         const int offset = 6 * (s.element - ws[d].first_free_node);
         const auto it = column.find(pt.contact);
         if (it == column.end()) {
