@@ -31,6 +31,7 @@ std::string setEffects(SceneSpec* spec, const std::string& list) {
   spec->effects = effects;
   spec->contact.device_contact =
       std::find(effects.begin(), effects.end(), "device_contact") != effects.end();
+  spec->contact.friction = std::find(effects.begin(), effects.end(), "friction") != effects.end();
   return "";
 }
 

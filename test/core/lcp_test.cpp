@@ -172,7 +172,7 @@ TEST(Lcp, SceneLcpsAgreeWithSiconos) {
 TEST(Lcp, DumpFormatRoundTrips) {
   std::mt19937 rng(1);
   const Lcp l = randomLcp(7, 7, 0.1, &rng);
-  LcpRecord r{l.W, l.q, VecX::Random(7)};
+  LcpRecord r{l.W, l.q, VecX::Random(7), VecX()};
   const std::string path = ::testing::TempDir() + "/evsim_roundtrip.lcp";
   ASSERT_TRUE(writeLcpRecord(r, path));
   const LcpRecord back = readLcpRecord(path);

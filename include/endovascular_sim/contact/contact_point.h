@@ -18,9 +18,10 @@ namespace evsim {
 using Row12 = Eigen::Matrix<double, 1, 12>;
 
 struct SamplePoint {
-  int element{0};      // between nodes element and element + 1
-  double xi{0.0};      // [0, 1] along the element
-  double radius{0.0};  // device radius there [m]
+  int element{0};        // between nodes element and element + 1
+  double xi{0.0};        // [0, 1] along the element
+  double radius{0.0};    // device radius there [m]
+  double friction{0.0};  // Coulomb coefficient of its section [-]
 };
 
 /// Sample points of one device: every node, and interior points so that

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "endovascular_sim/contact/contact_point.h"
+#include "endovascular_sim/contact/friction.h"
 #include "endovascular_sim/contact/lcp.h"
 #include "endovascular_sim/geometry/implicit_surface.h"
 #include "endovascular_sim/geometry/root_finding.h"
@@ -42,6 +43,8 @@ struct ContactOptions {
   double penetration_tolerance{1e-6};  // a point beyond the wall by more is violated [m]
   RootOptions root;                    // first-root search
   bool device_contact{false};          // effect 'device_contact': pairs of device points
+  bool friction{false};                // effect 'friction': Coulomb friction (NSGS)
+  FrictionOptions friction_solver;     // its tolerance and sweep limit
 };
 
 /// Why the options are out of range ("" when they are valid).
@@ -60,11 +63,14 @@ struct Contact {
   double force{0.0};          // lambda [N]
   int other_device{-1};       // pair contacts: the other point
   int other_sample{-1};
+  Vec3 friction{Vec3::Zero()};  // tangential force on the device point [N] (effect 'friction')
 };
 
 struct ContactStats {
-  int contacts{0};         // rows of the last LCP
-  int active_contacts{0};  // with a positive force
+  int contacts{0};          // rows of the last LCP
+  int active_contacts{0};   // with a positive force
+  int sliding_contacts{0};  // effect 'friction': on the cone's boundary
+  int friction_solves{0};   // frictional problems solved (effect 'friction')
   int activation_loops{0};
   int lcp_iterations{0};          // summed over the loops
   double lcp_residual{0.0};       // natural-map residual of the last LCP
@@ -78,15 +84,18 @@ struct ContactStats {
 };
 
 /// The LCP of the last activation loop (for dumps and offline comparisons).
+/// With the effect 'friction' every contact has three rows (n, t1, t2):
+/// the problem is Siconos' fc3d with coefficients mu.
 struct LcpRecord {
-  MatX W;  // c x c Delassus operator [m/N]
-  VecX q;  // c: gaps after the free motion [m]
-  VecX z;  // c: forces found [N]
+  MatX W;   // c x c (3c x 3c) Delassus operator [m/N]
+  VecX q;   // gaps after the free motion (and free slips) [m]
+  VecX z;   // forces found [N]
+  VecX mu;  // per contact, friction only
 };
 
 /// Writes a record as text: a header comment, "size c", then "W" and its c
-/// rows, "q" and c numbers, "z" and c numbers (%.17g). Returns false on I/O
-/// failure.
+/// rows, "q" and c numbers, "z" and c numbers (%.17g); with friction then
+/// "mu c/3" and the coefficients. Returns false on I/O failure.
 bool writeLcpRecord(const LcpRecord& record, const std::string& path);
 /// Reads a record written by writeLcpRecord (throws LoadError).
 LcpRecord readLcpRecord(const std::string& path);

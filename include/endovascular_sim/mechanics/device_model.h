@@ -21,6 +21,7 @@ struct DeviceSectionSpec {
   double length{0.0};                  // [m]
   int elements{0};                     // beam elements in this section
   Vec3 rest_curvature{0.0, 0.0, 0.0};  // (twist, bend y, bend z) [1/m]
+  double friction{0.0};                // Coulomb coefficient on its surface [-]
 };
 
 /// What the device file says: sections from proximal to distal end, limits.
@@ -47,10 +48,11 @@ struct DeviceModel {
   std::vector<Mat3> rest_rotation;
   std::vector<double> rest_twist;  // integral of rest twist from s = 0 [rad]
   std::vector<std::string> section_names;
-  double max_insertion_speed{0.0};  // [m/s]
-  double max_rotation_speed{0.0};   // [rad/s]
-  double rayleigh_mass{0.0};        // [1/s]
-  double rayleigh_stiffness{0.0};   // [s]
+  std::vector<double> section_friction;  // Coulomb coefficient per section [-]
+  double max_insertion_speed{0.0};       // [m/s]
+  double max_rotation_speed{0.0};        // [rad/s]
+  double rayleigh_mass{0.0};             // [1/s]
+  double rayleigh_stiffness{0.0};        // [s]
 };
 
 /// Discretises the sections into elements and integrates the rest shape.

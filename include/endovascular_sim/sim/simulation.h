@@ -31,6 +31,7 @@ struct EffectSet {
   bool vessel_motion{false};   // the motion regions of the vessels
   bool device_contact{false};  // pairs of device points (devices, a coil with itself)
   bool subdivision{false};     // an unsolved step is redone as halves
+  bool friction{false};        // Coulomb friction on every contact (mu per device section)
 };
 
 /// How often each effect's code ran since makeData (tests read them: an
@@ -40,6 +41,7 @@ struct EffectCounters {
   long vessel_motion{0};   // motion snapshots of the vessels
   long device_contact{0};  // passes of device-pair detection
   long subdivision{0};     // steps halved
+  long friction{0};        // frictional contact problems solved
 };
 
 struct SceneModel {
@@ -73,6 +75,7 @@ struct StepStats {
   double device_contact_ms{0.0};  // [ms] effect 'device_contact': pair detection
   int contacts{0};                // contacts of the last LCP
   int active_contacts{0};         // with a positive force
+  int sliding_contacts{0};        // effect 'friction': on the cone's boundary
   int activation_loops{0};        // most loops of a (sub-)step
   int lcp_iterations{0};
   double lcp_residual{0.0};       // worst natural-map residual

@@ -28,9 +28,11 @@ std::vector<SamplePoint> sampleDevice(const DeviceModel& model, double spacing) 
     const int k =
         std::max(1, static_cast<int>(std::ceil(model.elements[e].length / spacing - 1e-9)));
     const double r = std::max(model.node_radius[e], model.node_radius[e + 1]);
-    for (int j = 0; j < k; ++j) points.push_back({e, static_cast<double>(j) / k, r});
+    const double mu = model.section_friction[model.element_section[e]];
+    for (int j = 0; j < k; ++j) points.push_back({e, static_cast<double>(j) / k, r, mu});
   }
-  points.push_back({ne - 1, 1.0, model.node_radius[ne]});
+  points.push_back(
+      {ne - 1, 1.0, model.node_radius[ne], model.section_friction[model.element_section[ne - 1]]});
   return points;
 }
 

@@ -78,6 +78,15 @@ Vec3 pairNormal(const Vec3& pa, const Vec3& ta, const Vec3& pb, const Vec3& tb) 
   return across.norm() > 0.0 ? Vec3(across.normalized()) : d.normalized();
 }
 
+/// Orthonormal tangents of a contact plane: t1 along the device axis (its
+/// part across n), t2 = n x t1.
+std::array<Vec3, 2> tangentBasis(const Vec3& n, const Vec3& axis) {
+  Vec3 t1 = axis - axis.dot(n) * n;
+  if (t1.norm() < 1e-6) t1 = n.unitOrthogonal();
+  t1.normalize();
+  return {t1, n.cross(t1)};
+}
+
 std::vector<PointRef> freePoints(const std::vector<DeviceModel>& devices,
                                  const std::vector<DeviceState>& x,
                                  const std::vector<std::vector<SamplePoint>>& samples,
@@ -158,6 +167,10 @@ bool writeLcpRecord(const LcpRecord& r, const std::string& path) {
   for (long i = 0; i < c; ++i) std::fprintf(f, "%.17g\n", r.q(i));
   std::fprintf(f, "z\n");
   for (long i = 0; i < c; ++i) std::fprintf(f, "%.17g\n", r.z(i));
+  if (r.mu.size() > 0) {
+    std::fprintf(f, "mu %ld\n", static_cast<long>(r.mu.size()));
+    for (long i = 0; i < r.mu.size(); ++i) std::fprintf(f, "%.17g\n", r.mu(i));
+  }
   return std::fclose(f) == 0;
 }
 
@@ -169,7 +182,7 @@ LcpRecord readLcpRecord(const std::string& path) {
   long c = -1;
   if (!(in >> word >> c) || word != "size" || c < 0)
     throw LoadError(path, 2, "size", "expected 'size c'");
-  LcpRecord r{MatX(c, c), VecX(c), VecX(c)};
+  LcpRecord r{MatX(c, c), VecX(c), VecX(c), VecX()};
   auto expect = [&](const char* name) {
     if (!(in >> word) || word != name) throw LoadError(path, 0, name, "section missing");
   };
@@ -182,6 +195,14 @@ LcpRecord readLcpRecord(const std::string& path) {
   expect("z");
   for (long i = 0; i < c; ++i)
     if (!(in >> r.z(i))) throw LoadError(path, 0, "z", "too few numbers");
+  long contacts = 0;
+  if (in >> word) {  // friction: "mu k" and k coefficients
+    if (word != "mu" || !(in >> contacts) || contacts < 0 || 3 * contacts != c)
+      throw LoadError(path, 0, "mu", "expected 'mu c/3'");
+    r.mu.resize(contacts);
+    for (long i = 0; i < contacts; ++i)
+      if (!(in >> r.mu(i))) throw LoadError(path, 0, "mu", "too few numbers");
+  }
   return r;
 }
 
@@ -203,6 +224,10 @@ std::string validateContactOptions(const ContactOptions& o) {
     why << "penetration_tolerance must lie in [1e-9, 1e-3] m";
   else if (!(o.root.tolerance > 0.0 && o.root.tolerance <= 1e-6))
     why << "root tolerance must lie in (0, 1e-6] m";
+  else if (!(o.friction_solver.tolerance > 0.0 && o.friction_solver.tolerance <= 1e-2))
+    why << "friction tolerance must lie in (0, 1e-2]";
+  else if (o.friction_solver.max_sweeps < 1 || o.friction_solver.max_sweeps > 1000000)
+    why << "friction max_sweeps must lie in [1, 1e6]";
   return why.str();
 }
 
@@ -274,7 +299,10 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
           *pb.surface, samplePosition(devices[d], start[d], s), s.radius, pb.motion, 0.01, o.root);
       if (!plane.hit) continue;
       contact_of[d][k] = static_cast<int>(contacts->size());
-      contacts->push_back({d, k, plane.point, plane.normal, 0, 0});
+      Contact ct{d, k, plane.point, plane.normal, 0, 0};
+      ct.force = prev.force;  // the friction solver's warm start
+      ct.friction = prev.friction;
+      contacts->push_back(ct);
     }
   }
   // Device points closer than the sum of their radii at x_f.
@@ -299,19 +327,23 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   st->detection_ms += msSince(t0);
 
   bool solved = contacts->empty();
+  const int dim = o.friction ? 3 : 1;
+  std::vector<std::array<Vec3, 2>> tangents;  // per contact with friction: t1, t2
   std::vector<DeviceState> x = xf;
   std::vector<char> updated(contacts->size(), 0);  // plane already updated in this step
   for (int loop = 1; loop <= o.max_activation_loops && !solved; ++loop) {
     st->activation_loops = loop;
     const int c = static_cast<int>(contacts->size());
+    const int m = dim * c;  // rows: per contact n (and t1, t2 with friction)
+    if (o.friction) tangents.resize(c);
 
     // --- Delassus operator W = H A^-1 H^T, q = H x_f - delta ---------------
     t0 = Clock::now();
-    MatX W = MatX::Zero(c, c);
-    VecX q(c);
-    // Parts of each row per device: (contact, sample, signed row of H).
+    MatX W = MatX::Zero(m, m);
+    VecX q(m), mu(o.friction ? c : 0);
+    // Parts of each row per device: (row, sample, signed row of H).
     struct Part {
-      int contact, sample;
+      int row, sample;
       Row12 h;
     };
     std::vector<std::vector<Part>> parts(nd);
@@ -321,41 +353,56 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     // from x_f (a pre-shaped tip squeezed into a narrow lumen springs open by
     // millimetres in the free motion) keeps stale rows and stops converging.
     // Adds the part's row of H at x; returns its share of H (x_f - x).
-    auto addPart = [&](int contact, int device, int sample, const Vec3& n, double sign) {
+    auto addPart = [&](int row, int device, int sample, const Vec3& n, double sign) {
       const SamplePoint& s = samples[device][sample];
       const Row12 h = sign * contactRow(devices[device], x[device], s, n);
-      parts[device].push_back({contact, sample, h});
+      parts[device].push_back({row, sample, h});
       const int at = 6 * s.element;
       return h.dot(dq_free[device].segment<12>(at) - dq[device].segment<12>(at));
     };
     for (int i = 0; i < c; ++i) {
-      const Contact& ct = (*contacts)[i];
+      Contact& ct = (*contacts)[i];
       const SamplePoint& s = samples[ct.device][ct.sample];
       const Vec3 p = samplePosition(devices[ct.device], x[ct.device], s);
-      q(i) = addPart(i, ct.device, ct.sample, ct.normal, 1.0);
+      const int row = dim * i;
+      q(row) = addPart(row, ct.device, ct.sample, ct.normal, 1.0);
+      const SamplePoint* so = nullptr;
+      Vec3 po = Vec3::Zero();
       if (ct.other_device < 0) {
-        q(i) += ct.normal.dot(p - ct.point);
+        q(row) += ct.normal.dot(p - ct.point);
       } else {
-        const SamplePoint& so = samples[ct.other_device][ct.other_sample];
-        const Vec3 po = samplePosition(devices[ct.other_device], x[ct.other_device], so);
-        q(i) += ct.normal.dot(p - po) - (s.radius + so.radius) +
-                addPart(i, ct.other_device, ct.other_sample, ct.normal, -1.0);
+        so = &samples[ct.other_device][ct.other_sample];
+        po = samplePosition(devices[ct.other_device], x[ct.other_device], *so);
+        q(row) += ct.normal.dot(p - po) - (s.radius + so->radius) +
+                  addPart(row, ct.other_device, ct.other_sample, ct.normal, -1.0);
+      }
+      if (!o.friction) continue;
+      // Tangent rows: q is the slip over the step (relative to the other
+      // point for pairs).
+      tangents[i] = tangentBasis(ct.normal, sampleTangent(x[ct.device], s));
+      Vec3 slip = p - samplePosition(devices[ct.device], start[ct.device], s);
+      if (so) slip -= po - samplePosition(devices[ct.other_device], start[ct.other_device], *so);
+      mu(i) = so ? std::sqrt(s.friction * so->friction) : s.friction;
+      for (int k = 0; k < 2; ++k) {
+        const Vec3& t = tangents[i][k];
+        q(row + 1 + k) = t.dot(slip) + addPart(row + 1 + k, ct.device, ct.sample, t, 1.0);
+        if (so) q(row + 1 + k) += addPart(row + 1 + k, ct.other_device, ct.other_sample, t, -1.0);
       }
     }
-    std::vector<std::vector<int>> of_device(nd);  // contacts with a part on each device
-    std::vector<MatX> Y(nd);                      // A^-1 H^T per device (free DOFs x its contacts)
+    std::vector<std::vector<int>> of_device(nd);  // rows with a part on each device
+    std::vector<MatX> Y(nd);                      // A^-1 H^T per device (free DOFs x its rows)
     for (size_t d = 0; d < nd; ++d) {
       if (parts[d].empty()) continue;
       std::vector<ContactRow> device_rows;
-      std::map<int, int> column;  // contact -> column
+      std::map<int, int> column;  // row -> column
       for (const Part& pt : parts[d]) {
         const SamplePoint& s = samples[d][pt.sample];
         const Row12& h = pt.h;
         const int offset = 6 * (s.element - ws[d].first_free_node);
-        const auto it = column.find(pt.contact);
+        const auto it = column.find(pt.row);
         if (it == column.end()) {
-          column[pt.contact] = static_cast<int>(device_rows.size());
-          of_device[d].push_back(pt.contact);
+          column[pt.row] = static_cast<int>(device_rows.size());
+          of_device[d].push_back(pt.row);
           ContactRow row;
           row.offset[0] = offset;
           row.h[0] = h;
@@ -375,16 +422,32 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     }
     st->delassus_ms += msSince(t0);
 
-    // --- Status method (or the chosen solver) -------------------------------
+    // --- Status method (or the chosen solver; NSGS with friction) -----------
     t0 = Clock::now();
     VecX lambda;
-    LcpStats ls;
-    const LcpStatus status = solveLcp(W, q, o.lcp, &lambda, &ls);
+    LcpStatus status;
+    if (o.friction) {
+      lambda.resize(m);  // warm start: the last loop's (or step's) forces
+      for (int i = 0; i < c; ++i) {
+        const Contact& ct = (*contacts)[i];
+        lambda.segment<3>(3 * i) << std::max(0.0, ct.force), tangents[i][0].dot(ct.friction),
+            tangents[i][1].dot(ct.friction);
+      }
+      FrictionStats fs;
+      status = solveFrictionalContact(W, q, mu, o.friction_solver, &lambda, &fs);
+      st->lcp_iterations += fs.sweeps;
+      st->lcp_residual = fs.residual;
+      st->sliding_contacts = fs.sliding;
+      ++st->friction_solves;
+    } else {
+      LcpStats ls;
+      status = solveLcp(W, q, o.lcp, &lambda, &ls);
+      st->lcp_iterations += ls.iterations;
+      st->lcp_residual = ls.residual;
+    }
     st->lcp_ms += msSince(t0);
-    st->lcp_iterations += ls.iterations;
-    st->lcp_residual = ls.residual;
     st->contacts = c;
-    if (pb.record) *pb.record = {W, q, lambda};
+    if (pb.record) *pb.record = {W, q, lambda, mu};
     if (status != LcpStatus::kSolved) return false;  // the caller subdivides
 
     // --- Correction x = x_f + A^-1 H^T lambda --------------------------------
@@ -399,7 +462,12 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       dq[d].tail(n) += Y[d] * l;
     }
     x = moved(start, dq);
-    for (int i = 0; i < c; ++i) (*contacts)[i].force = lambda(i);
+    for (int i = 0; i < c; ++i) {
+      Contact& ct = (*contacts)[i];
+      ct.force = lambda(dim * i);
+      if (o.friction)
+        ct.friction = lambda(3 * i + 1) * tangents[i][0] + lambda(3 * i + 2) * tangents[i][1];
+    }
     st->correction_ms += msSince(t0);
 
     // --- Re-detection on x: plane updates and new contacts ------------------
@@ -480,6 +548,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
           std::max(st->max_penetration_m, -((p - po).norm() - s.radius - so.radius));
     }
     if (ct.force > 0.0) ++st->active_contacts;
+    if (ct.force <= 0.0) ct.friction.setZero();
   }
   // The deepest wall penetration was measured by the last loop's pass over
   // the points at x (without contacts, no point crossed: 0).

@@ -22,6 +22,9 @@ DeviceModel buildDeviceModel(const DeviceSpec& spec) {
       throw std::invalid_argument("section " + sec.name + " has no length or no elements");
     num_elements += sec.elements;
     m.section_names.push_back(sec.name);
+    if (!(sec.friction >= 0.0))
+      throw std::invalid_argument("section " + sec.name + " has a negative friction coefficient");
+    m.section_friction.push_back(sec.friction);
   }
   m.num_nodes = num_elements + 1;
   const int n = m.num_nodes;

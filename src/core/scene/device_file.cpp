@@ -136,6 +136,7 @@ DeviceSectionSpec readSection(const std::string& path, const TiXmlElement* robot
     if (sec.rest_curvature.norm() * sec.length / sec.elements >= M_PI / 2)
       x.fail("rest_curvature", "turns more than 90 degrees per element: add elements");
   }
+  sec.friction = x.nonNegative("friction", 0.0);
   sec.section.density = m / (sec.section.area() * sec.length);
   return sec;
 }

@@ -151,6 +151,9 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   o.penetration_tolerance =
       r.number(n, "penetration_tolerance", "contact.", o.penetration_tolerance);
   o.root.tolerance = r.number(n, "root_tolerance", "contact.", o.root.tolerance);
+  o.friction_solver.tolerance =
+      r.number(n, "friction_tolerance", "contact.", o.friction_solver.tolerance);
+  o.friction_solver.max_sweeps = whole("friction_max_sweeps", o.friction_solver.max_sweeps);
   const std::string why = validateContactOptions(o);
   if (!why.empty()) r.fail(n, "contact", why);
   return o;
@@ -186,7 +189,7 @@ ScriptedCommand readCommand(const YamlReader& r, const YAML::Node& n, int index,
 
 const std::vector<std::string>& knownEffects() {
   static const std::vector<std::string> effects = {"gravity", "vessel_motion", "device_contact",
-                                                    "subdivision"};
+                                                   "subdivision", "friction"};
   return effects;
 }
 
@@ -223,6 +226,7 @@ SceneSpec loadSceneFile(const std::string& path) {
   if (root["contact"]) s.contact = readContact(r, root["contact"]);
   s.contact.device_contact =
       std::find(s.effects.begin(), s.effects.end(), "device_contact") != s.effects.end();
+  s.contact.friction = std::find(s.effects.begin(), s.effects.end(), "friction") != s.effects.end();
   const bool moves =
       std::find(s.effects.begin(), s.effects.end(), "vessel_motion") != s.effects.end();
   if (moves && s.vessels.motion.empty())

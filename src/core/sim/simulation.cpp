@@ -34,6 +34,7 @@ void addTimes(const ContactStats& c, StepStats* s) {
 void addResults(const ContactStats& c, StepStats* s) {
   s->contacts = c.contacts;
   s->active_contacts = c.active_contacts;
+  s->sliding_contacts = c.sliding_contacts;
   s->activation_loops = std::max(s->activation_loops, c.activation_loops);
   s->lcp_iterations += c.lcp_iterations;
   s->lcp_residual = std::max(s->lcp_residual, c.lcp_residual);
@@ -81,6 +82,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     const bool solved = resolveContacts(pb, model.contact, &data->contacts, &cs);
     addTimes(cs, &data->stats);
     data->effect_calls.device_contact += cs.pair_passes;
+    data->effect_calls.friction += cs.friction_solves;
     if (!solved) {
       data->contacts.swap(previous);  // a subdivided step starts from them again
       data->last_error = "contacts not solved after " +
@@ -147,6 +149,8 @@ SceneModel buildSceneModel(const SceneSpec& spec) {
       m.effects.device_contact = true;
     else if (e == "subdivision")
       m.effects.subdivision = true;
+    else if (e == "friction")
+      m.effects.friction = true;
   if (m.effects.gravity) m.gravity = spec.gravity;
   if (spec.vessels.present) {
     m.vessels = std::make_shared<const VesselField>(
@@ -154,6 +158,7 @@ SceneModel buildSceneModel(const SceneSpec& spec) {
     m.surface = m.vessels;
   }
   m.contact = spec.contact;
+  m.contact.friction = m.effects.friction;
   for (const auto& d : spec.devices) {
     m.devices.push_back(buildDeviceModel(d.device));
     m.introducers.push_back(d.introducer);
