@@ -108,5 +108,103 @@ INSTANTIATE_TEST_SUITE_P(Angles, Incline,
                                            InclineCase{0.32, 0.3}, InclineCase{0.6, 0.3},
                                            InclineCase{0.6, 0.05}));
 
+/// The outside of a cylinder of radius R about the z axis (a capstan):
+/// g = |p_xy| - R - r.
+class CapstanSurface : public ImplicitSurface {
+ public:
+  explicit CapstanSurface(double radius) : radius_(radius) {}
+  FieldSample evaluate(const Vec3& p, double r, const MotionSnapshot& = {}) const override {
+    const Vec3 radial(p.x(), p.y(), 0.0);
+    FieldSample s;
+    s.value = radial.norm() - radius_ - r;
+    s.gradient = radial.normalized();
+    return s;
+  }
+  double hessianBound(const Vec3&, const Vec3&, double) const override { return 2.0 / radius_; }
+
+ private:
+  double radius_;
+};
+
+// The capstan: a thread (polymer, E = 50 MPa, radius 0.1 mm) rises from its
+// introducer, wraps half a turn over a cylinder of radius 10 mm and hangs
+// with a 1 g weight on its tip. Pulled back at 10 mm/s it slides over the
+// cylinder, and the tensions on both sides of the wrap follow the capstan
+// law T_pull = T_load e^(mu pi). Tension against bending stiffness:
+// T R^2 / EI ~ 250, so the thread is nearly a string. T_load is the hanging
+// weight; T_pull - T_load is the sum of the friction forces on the wrap.
+TEST(Capstan, PullingOverACylinderNeedsTheCapstanForceRatio) {
+  const double mu = 0.2, cylinder = 0.01, radius = 1e-4, tip_mass = 1e-3;
+  const double rho = cylinder + radius + 1e-6;  // the thread's axis on the wrap [m]
+  const double up = 0.04, down = 0.06, held = 0.01;
+  const double inserted = up + M_PI * rho + down;
+  SceneModel m;
+  m.name = "capstan";
+  m.time_step = 1e-3;
+  m.effects.gravity = m.effects.friction = true;
+  m.gravity = Vec3(0.0, -kG, 0.0);
+  DeviceSpec spec = straightDeviceSpec("thread", test::wireSection(5e7, radius), held + inserted,
+                                       static_cast<int>(std::round((held + inserted) / 2e-3)));
+  spec.sections[0].friction = mu;
+  spec.rayleigh_stiffness = 5e-3;
+  m.devices.push_back(buildDeviceModel(spec));
+  m.devices[0].node_mass.back() += tip_mass;
+  Introducer intro;
+  intro.access_point = Vec3(-rho, -up, 0.0);
+  intro.frame << 0, -1, 0, 1, 0, 0, 0, 0, 1;  // x axis up (+y)
+  m.introducers.push_back(intro);
+  m.initial_inserted_length.push_back(inserted);
+  m.initial_rotation.push_back(0.0);
+  m.surface = std::make_shared<CapstanSurface>(cylinder);
+  m.contact.friction = true;
+  m.contact.contact_spacing = 2e-3;  // the nodes only (see the README's known gaps)
+  m.samples.push_back(sampleDevice(m.devices[0], m.contact.contact_spacing));
+
+  SimData d = makeData(m);
+  // Lay the inserted thread on its path: up, half a turn, down.
+  const DeviceModel& dev = m.devices[0];
+  DeviceState& x = d.devices[0];  // (step() swaps the states: not used after it)
+  for (int i = 0; i < dev.num_nodes; ++i) {
+    const double sigma = dev.node_s[i] - (dev.length - inserted);
+    if (sigma <= 0.0) continue;
+    Vec3 p;
+    double heading;  // angle of the tangent about z
+    if (sigma <= up) {
+      p = Vec3(-rho, -up + sigma, 0.0);
+      heading = M_PI / 2;
+    } else if (sigma <= up + M_PI * rho) {
+      const double psi = M_PI - (sigma - up) / rho;
+      p = Vec3(rho * std::cos(psi), rho * std::sin(psi), 0.0);
+      heading = psi - M_PI / 2;
+    } else {
+      p = Vec3(rho, -(sigma - up - M_PI * rho), 0.0);
+      heading = -M_PI / 2;
+    }
+    x.position[i] = p;
+    x.rotation[i] = Quat(Eigen::AngleAxisd(heading, Vec3::UnitZ()));
+  }
+  const int settle = 100, pull = 1000, window = 100;
+  for (int k = 0; k < settle; ++k) ASSERT_EQ(step(m, &d), StepStatus::kOk) << d.last_error;
+  ASSERT_EQ(setCommand(m, &d, "thread", {DriveCommand::Mode::kVelocity, -0.01, 0.0}), "");
+  double friction_sum = 0.0, load = 0.0;
+  int sliding = 0;
+  for (int k = 0; k < pull; ++k) {
+    ASSERT_EQ(step(m, &d), StepStatus::kOk) << "step " << k << ": " << d.last_error;
+    if (k < pull - window) continue;
+    for (const Contact& c : d.contacts) friction_sum += c.friction.norm() / window;
+    for (int i = 0; i < dev.num_nodes; ++i)  // the hanging part, below the wrap
+      if (d.devices[0].position[i].x() > 0.0 && d.devices[0].position[i].y() < 0.0)
+        load += dev.node_mass[i] * kG / window;
+    sliding = d.stats.sliding_contacts;
+  }
+  const double ratio = (load + friction_sum) / load, expected = std::exp(mu * M_PI);
+  std::printf(
+      "[ metric   ] capstan mu=%.2f over pi: T_pull/T_load = %.4f (e^(mu pi) = %.4f), load %.4e N, "
+      "%d sliding contacts\n",
+      mu, ratio, expected, load, sliding);
+  EXPECT_NEAR(ratio, expected, 0.03 * expected);
+  EXPECT_GT(sliding, 10);
+}
+
 }  // namespace
 }  // namespace evsim

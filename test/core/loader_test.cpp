@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "endovascular_sim/contact/contact_point.h"
 #include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/scene/device_file.h"
 #include "endovascular_sim/scene/scene_file.h"
@@ -153,6 +154,23 @@ TEST_F(Loader, MissingExtensionOfALinkIsNamed) {
 TEST_F(Loader, InnerRadiusWiderThanOuterIsRefused) {
   expectNames(deviceError("elements=\"30\"", "elements=\"30\" inner_radius=\"0.001\""), "wire.urdf",
               15, "evsim_section[shaft]/inner_radius", "must be smaller");
+}
+
+TEST_F(Loader, NegativeFrictionCoefficientIsRefused) {
+  expectNames(deviceError("elements=\"30\"", "elements=\"30\" friction=\"-0.1\""), "wire.urdf", 15,
+              "evsim_section[shaft]/friction", "must not be negative");
+}
+
+TEST_F(Loader, FrictionCoefficientPerSectionReachesTheSamplePoints) {
+  fs::path p = dir_ / "wire.urdf";
+  std::string text = kDevice;
+  text.replace(text.find("elements=\"30\""), 13, "elements=\"30\" friction=\"0.25\"");
+  text.replace(text.find("elements=\"10\""), 13, "elements=\"10\" friction=\"0.05\"");
+  std::ofstream(p) << text;
+  const DeviceModel m = buildDeviceModel(loadDeviceFile(p.string()));
+  const std::vector<SamplePoint> samples = sampleDevice(m, 1e-3);
+  EXPECT_EQ(samples.front().friction, 0.25);  // the shaft
+  EXPECT_EQ(samples.back().friction, 0.05);   // the hydrophilic tip
 }
 
 TEST_F(Loader, MalformedXmlGivesItsLine) {

@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -153,10 +154,16 @@ AcBlock alartCurnier(const Vec3& r, const Vec3& u, double mu, double rho_n, doub
 /// The status method for friction: semismooth Newton on the Alart-Curnier
 /// function, J dr = -phi with J = I - D (I - rho W) (D from each contact's
 /// status), and a backtracking line search on |phi|^2. Steps that stall fall
-/// back to one Gauss-Seidel sweep.
+/// back to one Gauss-Seidel sweep. eps = 1e-12 max diag W.
 LcpStatus solveNewton(const MatX& W, const VecX& q, const VecX& mu, const std::vector<Mat3>& block,
-                      const FrictionOptions& o, VecX* r, FrictionStats* st) {
+                      double eps, int max_steps, const FrictionOptions& o, VecX* r,
+                      FrictionStats* st) {
   const int c = static_cast<int>(mu.size()), n = 3 * c;
+  // The Jacobian of sticking contacts is rho W: singular for redundant
+  // contacts (a thread wrapped on a cylinder: cond W ~ 1e17). The step is
+  // taken with W + shift I (shift = 1e-8 max diag W), which bounds it; phi
+  // and the residual use W itself, so the solution is not changed.
+  const double shift = 1e4 * eps;
   VecX rho_n(c), rho_t(c);
   for (int i = 0; i < c; ++i) {
     rho_n(i) = 1.0 / block[i](0, 0);
@@ -176,12 +183,12 @@ LcpStatus solveNewton(const MatX& W, const VecX& q, const VecX& mu, const std::v
       Drho.col(1) *= rho_t(i);
       Drho.col(2) *= rho_t(i);
       J->middleRows<3>(3 * i) = Drho * W.middleRows<3>(3 * i);
-      J->block<3, 3>(3 * i, 3 * i) += Mat3::Identity() - b.D;
+      J->block<3, 3>(3 * i, 3 * i) += Mat3::Identity() - b.D + shift * Drho;
     }
   };
   VecX phi(n), trial_phi(n);
   MatX J;
-  for (st->sweeps = 0; st->sweeps < o.max_sweeps;) {
+  for (int steps = 0; steps < max_steps; ++steps) {
     ++st->sweeps;
     evaluate(*r, &phi, &J);
     const double merit = phi.squaredNorm();
@@ -245,7 +252,15 @@ LcpStatus solveFrictionalContact(const MatX& W, const VecX& q, const VecX& mu,
   if (c == 0 || st.residual <= o.tolerance) {
     status = LcpStatus::kSolved;
   } else if (o.solver == FrictionSolver::kNewton) {
-    status = solveNewton(W, q, mu, block, o, r, &st);
+    // From the warm start first; Newton with a line search on the
+    // non-smooth |phi|^2 can stall far from the solution (seen on the
+    // capstan, from a previous loop's forces), then once more from zero.
+    const int warm_steps = std::max(1, o.max_sweeps / 4);
+    status = solveNewton(W, q, mu, block, eps, warm_steps, o, r, &st);
+    if (status == LcpStatus::kIterationLimit && o.max_sweeps > warm_steps) {
+      r->setZero(3 * c);
+      status = solveNewton(W, q, mu, block, eps, o.max_sweeps - warm_steps, o, r, &st);
+    }
   } else {
     while (status != LcpStatus::kSolved && st.sweeps < o.max_sweeps) {
       ++st.sweeps;

@@ -151,6 +151,14 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   o.penetration_tolerance =
       r.number(n, "penetration_tolerance", "contact.", o.penetration_tolerance);
   o.root.tolerance = r.number(n, "root_tolerance", "contact.", o.root.tolerance);
+  if (n["friction_solver"]) {
+    try {
+      o.friction_solver.solver =
+          frictionSolverFromName(r.text(n["friction_solver"], "contact.friction_solver"));
+    } catch (const std::invalid_argument& e) {
+      r.fail(n["friction_solver"], "contact.friction_solver", e.what());
+    }
+  }
   o.friction_solver.tolerance =
       r.number(n, "friction_tolerance", "contact.", o.friction_solver.tolerance);
   o.friction_solver.max_sweeps = whole("friction_max_sweeps", o.friction_solver.max_sweeps);
