@@ -107,6 +107,14 @@ class NavigationNodeTest(unittest.TestCase):
         with self.lock:
             return next(d for d in self.states.devices if d.name == name)
 
+    def device_and_time(self, name='guidewire'):
+        """A device's status and the simulated time of the same message (the
+        stats topic is a different message: pairing it with a device's state
+        skews rates by up to a frame)."""
+        with self.lock:
+            return (next(d for d in self.states.devices if d.name == name),
+                    self.states.header.stamp.to_sec())
+
     def sim_time(self):
         with self.lock:
             return self.stats.sim_time
@@ -178,21 +186,19 @@ class NavigationNodeTest(unittest.TestCase):
         buttons[m['deadman_button']] = 1
         self.joy_pub.publish(Joy(axes=axes, buttons=buttons))
         self.wait_for(lambda: self.device().inserted_length > start + 1e-4, 'joystick insertion')
-        with self.lock:
-            l0, t0 = self.device().inserted_length, self.stats.sim_time
+        d0, t0 = self.device_and_time()
         self.wait_sim(0.3)
-        with self.lock:
-            l1, t1 = self.device().inserted_length, self.stats.sim_time
+        d1, t1 = self.device_and_time()
+        l0, l1 = d0.inserted_length, d1.inserted_length
         self.assertAlmostEqual((l1 - l0) / (t1 - t0), m['insertion_scale'], delta=0.002)
         axes[m['insertion_axis']] = 0.0  # the rotation axis alone turns the device
         axes[m['rotation_axis']] = 1.0
         self.joy_pub.publish(Joy(axes=axes, buttons=buttons))
         self.wait_sim(0.1)
-        with self.lock:
-            r0, t0 = self.device().rotation, self.stats.sim_time
+        d0, t0 = self.device_and_time()
         self.wait_sim(0.3)
-        with self.lock:
-            r1, t1 = self.device().rotation, self.stats.sim_time
+        d1, t1 = self.device_and_time()
+        r0, r1 = d0.rotation, d1.rotation
         self.assertAlmostEqual((r1 - r0) / (t1 - t0), m['rotation_scale'], delta=0.2)
         buttons[m['deadman_button']] = 0  # release: the device stops
         self.joy_pub.publish(Joy(axes=axes, buttons=buttons))
