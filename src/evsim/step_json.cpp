@@ -23,7 +23,8 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
     << ",\"detection_ms\":" << num(s.detection_ms) << ",\"delassus_ms\":" << num(s.delassus_ms)
     << ",\"lcp_ms\":" << num(s.lcp_ms) << ",\"correction_ms\":" << num(s.correction_ms)
     << ",\"vessel_motion_ms\":" << num(s.vessel_motion_ms)
-    << ",\"device_contact_ms\":" << num(s.device_contact_ms) << ",\"contacts\":" << s.contacts
+    << ",\"device_contact_ms\":" << num(s.device_contact_ms)
+    << ",\"coaxial_ms\":" << num(s.coaxial_ms) << ",\"contacts\":" << s.contacts
     << ",\"active_contacts\":" << s.active_contacts
     << ",\"activation_loops\":" << s.activation_loops << ",\"lcp_iterations\":" << s.lcp_iterations
     << ",\"lcp_residual\":" << num(s.lcp_residual) << ",\"subdivisions\":" << s.subdivisions

@@ -55,6 +55,7 @@ endovascular_sim::StepStats toStepStatsMsg(const FrameSnapshot& f, const LoopTim
   m.correction_ms = s.correction_ms;
   m.vessel_motion_ms = s.vessel_motion_ms;
   m.device_contact_ms = s.device_contact_ms;
+  m.coaxial_ms = s.coaxial_ms;
   m.contacts = static_cast<uint32_t>(s.contacts);
   m.active_contacts = static_cast<uint32_t>(s.active_contacts);
   m.activation_loops = static_cast<uint32_t>(s.activation_loops);

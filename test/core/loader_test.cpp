@@ -246,3 +246,61 @@ TEST(ShippedConfig, UnknownSceneNameListsTheShippedOnes) {
 
 }  // namespace
 }  // namespace evsim
+
+namespace evsim {
+namespace {
+
+/// The shipped catheter + guidewire scene with `from` replaced by `to`,
+/// loaded from a temporary copy; returns the error.
+LoadError coaxialSceneError(const std::string& from, const std::string& to) {
+  const fs::path config = configDirectory();
+  std::ifstream in(config / "scenes" / "carotid_catheter.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (size_t at; (at = text.find("../")) != std::string::npos;)
+    text.replace(at, 3, (config / "").string());
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  text.replace(at, from.size(), to);
+  const fs::path path = fs::temp_directory_path() / "evsim_coaxial_scene.yaml";
+  std::ofstream(path) << text;
+  try {
+    loadSceneFile(path.string());
+  } catch (const LoadError& e) {
+    fs::remove(path);
+    return e;
+  }
+  fs::remove(path);
+  ADD_FAILURE() << "no error for " << to;
+  return LoadError("", 0, "", "");
+}
+
+TEST(CoaxialLoader, UnknownOuterDeviceIsNamed) {
+  const LoadError e = coaxialSceneError("inside: catheter", "inside: sheath");
+  EXPECT_EQ(e.field(), "devices[1].inside");
+  EXPECT_GT(e.line(), 0);
+  EXPECT_NE(std::string(e.what()).find("unknown device 'sheath'"), std::string::npos) << e.what();
+}
+
+TEST(CoaxialLoader, InnerDeviceWiderThanTheLumenIsRefused) {
+  const LoadError e = coaxialSceneError("devices/guidewire.urdf\n",
+                                        "devices/catheter.urdf\n    name: inner_catheter\n");
+  EXPECT_EQ(e.field(), "devices[1].inside");
+  EXPECT_NE(std::string(e.what()).find("is wider than the lumen of 'catheter'"), std::string::npos)
+      << e.what();
+}
+
+TEST(CoaxialLoader, PairingWithoutTheEffectIsRefused) {
+  const LoadError e = coaxialSceneError("coaxial, ", "");
+  EXPECT_EQ(e.field(), "devices[1].inside");
+  EXPECT_NE(std::string(e.what()).find("needs the effect 'coaxial'"), std::string::npos)
+      << e.what();
+}
+
+TEST(CoaxialLoader, AnInnerDeviceHasNoAccessPointOfItsOwn) {
+  const LoadError e =
+      coaxialSceneError("inside: catheter", "inside: catheter\n    access_point: [0, 0, 0]");
+  EXPECT_EQ(e.field(), "devices[1].access_point");
+}
+
+}  // namespace
+}  // namespace evsim

@@ -31,6 +31,14 @@ std::vector<SamplePoint> sampleDevice(const DeviceModel& model, double spacing);
 /// Position of a sample point in a configuration [m].
 Vec3 samplePosition(const DeviceModel& model, const DeviceState& state, const SamplePoint& s);
 
+/// A point of the device axis (cubic Hermite) and its derivatives in xi.
+struct AxisPoint {
+  Vec3 position;  // p(xi) [m]
+  Vec3 first;     // dp/dxi [m]
+  Vec3 second;    // d2p/dxi2 [m]
+};
+AxisPoint axisPoint(const DeviceModel& model, const DeviceState& state, int element, double xi);
+
 /// Row of H for a contact of normal n at a sample point.
 Row12 contactRow(const DeviceModel& model, const DeviceState& state, const SamplePoint& s,
                  const Vec3& n);

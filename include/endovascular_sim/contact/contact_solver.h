@@ -15,6 +15,9 @@
 //   pairs     with the effect 'device_contact', device points closer than
 //             the sum of their radii (same device: more than a few radii
 //             apart along it) are pair contacts in the same LCP
+//   lumen     with the effect 'coaxial', points of an inner device beyond
+//             its outer device's lumen are contacts with the outer axis
+//             (contact/coaxial.h), updated and added like wall contacts
 //   until     no point lies beyond the wall by more than the tolerance, or
 //             N loops (the caller then subdivides the time step).
 //
@@ -51,9 +54,13 @@ struct ContactOptions {
 std::string validateContactOptions(const ContactOptions& options);
 
 /// A contact with the wall (other_device < 0): n . (p - point) >= 0; or
-/// between two device points (a coil touching itself, a wire in a
-/// catheter): n . (p - p_other) - (r + r_other) >= 0, n from the other point
-/// to this one, point = the other point when detected.
+/// between a device point and a point of another device (or of the same
+/// one: a coil touching itself): n . (p - p_other) - separation >= 0, with
+/// n from the other point to this one and point = the other point when
+/// detected. Two device surfaces touching: separation = r + r_other; a point
+/// of an inner device in its outer device's lumen (contact/coaxial.h):
+/// separation = -(r_lumen - r), the other point on the outer axis and n
+/// toward it (contact/coaxial.h).
 struct Contact {
   int device{0};
   int sample{0};              // index into the device's sample points
@@ -64,6 +71,9 @@ struct Contact {
   int other_device{-1};       // pair contacts: the other point
   int other_sample{-1};
   Vec3 friction{Vec3::Zero()};  // tangential force on the device point [N] (effect 'friction')
+  SamplePoint other{};          // the other device's point (its element, xi, radius, mu)
+  double separation{0.0};       // [m], see above
+  bool lumen{false};            // an inner device's point in its outer device's lumen
 };
 
 struct ContactStats {
@@ -81,6 +91,8 @@ struct ContactStats {
   double correction_ms{0.0};
   double pairs_ms{0.0};  // device-pair detection (part of detection_ms)
   int pair_passes{0};    // device-pair detection passes (effect 'device_contact')
+  double lumen_ms{0.0};  // coaxial lumen detection (part of detection_ms)
+  int lumen_passes{0};   // coaxial lumen detection passes (effect 'coaxial')
 };
 
 /// The LCP of the last activation loop (for dumps and offline comparisons).
@@ -114,6 +126,9 @@ struct ContactProblem {
   /// starts this step as a contact again, its tangent plane updated where its
   /// point now projects on the wall (null or empty: detection alone).
   const std::vector<Contact>* previous{nullptr};
+  /// Effect 'coaxial': per device, the device whose lumen it runs in (-1:
+  /// none). Null or empty: no coaxial devices.
+  const std::vector<int>* outer_of{nullptr};
 };
 
 /// Corrects ws.dq of every device so that no sample point lies beyond the

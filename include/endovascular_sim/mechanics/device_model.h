@@ -22,6 +22,7 @@ struct DeviceSectionSpec {
   int elements{0};                     // beam elements in this section
   Vec3 rest_curvature{0.0, 0.0, 0.0};  // (twist, bend y, bend z) [1/m]
   double friction{0.0};                // Coulomb coefficient on its surface [-]
+  double lumen_friction{0.0};          // on its lumen's wall (a device inside it) [-]
 };
 
 /// What the device file says: sections from proximal to distal end, limits.
@@ -32,6 +33,7 @@ struct DeviceSpec {
   double max_rotation_speed{6.2832};  // [rad/s]
   double rayleigh_mass{0.0};          // alpha in D = alpha M + beta K [1/s]
   double rayleigh_stiffness{0.0};     // beta [s]
+  bool detachable{false};             // may be released from its pusher (a coil)
 };
 
 struct DeviceModel {
@@ -48,11 +50,14 @@ struct DeviceModel {
   std::vector<Mat3> rest_rotation;
   std::vector<double> rest_twist;  // integral of rest twist from s = 0 [rad]
   std::vector<std::string> section_names;
-  std::vector<double> section_friction;  // Coulomb coefficient per section [-]
-  double max_insertion_speed{0.0};       // [m/s]
-  double max_rotation_speed{0.0};        // [rad/s]
-  double rayleigh_mass{0.0};             // [1/s]
-  double rayleigh_stiffness{0.0};        // [s]
+  std::vector<double> section_friction;        // Coulomb coefficient per section [-]
+  std::vector<double> section_lumen_radius;    // inner radius per section, 0: solid [m]
+  std::vector<double> section_lumen_friction;  // Coulomb coefficient of the lumen wall [-]
+  double max_insertion_speed{0.0};             // [m/s]
+  double max_rotation_speed{0.0};              // [rad/s]
+  double rayleigh_mass{0.0};                   // [1/s]
+  double rayleigh_stiffness{0.0};              // [s]
+  bool detachable{false};
 };
 
 /// Discretises the sections into elements and integrates the rest shape.

@@ -19,6 +19,8 @@ struct DevicePlacementSpec {
   Introducer introducer;
   double inserted_length{0.0};  // at start [m]
   double rotation{0.0};         // at start [rad]
+  std::string inside;           // effect 'coaxial': the outer device's name ("" none)
+  int outer{-1};                // its index; the introducer is the outer device's
 };
 
 struct ScriptedCommand {

@@ -32,6 +32,7 @@ struct EffectSet {
   bool device_contact{false};  // pairs of device points (devices, a coil with itself)
   bool subdivision{false};     // an unsolved step is redone as halves
   bool friction{false};        // Coulomb friction on every contact (mu per device section)
+  bool coaxial{false};         // inner devices held in their outer devices' lumens
 };
 
 /// How often each effect's code ran since makeData (tests read them: an
@@ -42,6 +43,7 @@ struct EffectCounters {
   long device_contact{0};  // passes of device-pair detection
   long subdivision{0};     // steps halved
   long friction{0};        // frictional contact problems solved
+  long coaxial{0};         // passes of lumen detection
 };
 
 struct SceneModel {
@@ -58,6 +60,7 @@ struct SceneModel {
   std::vector<Introducer> introducers;
   std::vector<double> initial_inserted_length;  // [m]
   std::vector<double> initial_rotation;         // [rad]
+  std::vector<int> outer_of;  // effect 'coaxial': per device its outer device (-1); else empty
   std::vector<ScriptedCommand> script;
 };
 
@@ -73,6 +76,7 @@ struct StepStats {
   double correction_ms{0.0};      // [ms] x = x_f + A^-1 H^T lambda
   double vessel_motion_ms{0.0};   // [ms] effect 'vessel_motion': the motion snapshot
   double device_contact_ms{0.0};  // [ms] effect 'device_contact': pair detection
+  double coaxial_ms{0.0};         // [ms] effect 'coaxial': lumen detection
   int contacts{0};                // contacts of the last LCP
   int active_contacts{0};         // with a positive force
   int sliding_contacts{0};        // effect 'friction': on the cone's boundary

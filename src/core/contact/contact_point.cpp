@@ -17,6 +17,21 @@ struct Hermite {
   }
 };
 
+/// d/dt and d2/dt2 of the Hermite basis.
+struct HermiteDerivatives {
+  double d00, d10, d01, d11, s00, s10, s01, s11;
+  explicit HermiteDerivatives(double t) {
+    d00 = 6 * t * t - 6 * t;
+    d10 = 3 * t * t - 4 * t + 1;
+    d01 = -d00;
+    d11 = 3 * t * t - 2 * t;
+    s00 = 12 * t - 6;
+    s10 = 6 * t - 4;
+    s01 = -s00;
+    s11 = 6 * t - 2;
+  }
+};
+
 Vec3 tangent(const DeviceState& s, int node) { return s.rotation[node] * Vec3::UnitX(); }
 
 }  // namespace
@@ -44,6 +59,19 @@ Vec3 samplePosition(const DeviceModel& model, const DeviceState& state, const Sa
   const double L = model.elements[s.element].length;
   return h.h00 * state.position[a] + h.h10 * L * tangent(state, a) + h.h01 * state.position[b] +
          h.h11 * L * tangent(state, b);
+}
+
+AxisPoint axisPoint(const DeviceModel& model, const DeviceState& state, int element, double xi) {
+  const int a = element, b = element + 1;
+  const double L = model.elements[element].length;
+  const Vec3 ta = L * tangent(state, a), tb = L * tangent(state, b);
+  const Hermite h(xi);
+  const HermiteDerivatives d(xi);
+  AxisPoint out;
+  out.position = h.h00 * state.position[a] + h.h10 * ta + h.h01 * state.position[b] + h.h11 * tb;
+  out.first = d.d00 * state.position[a] + d.d10 * ta + d.d01 * state.position[b] + d.d11 * tb;
+  out.second = d.s00 * state.position[a] + d.s10 * ta + d.s01 * state.position[b] + d.s11 * tb;
+  return out;
 }
 
 Row12 contactRow(const DeviceModel& model, const DeviceState& state, const SamplePoint& s,

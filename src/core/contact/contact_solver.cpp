@@ -9,6 +9,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "endovascular_sim/contact/coaxial.h"
 #include "endovascular_sim/contact/delassus.h"
 #include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/mechanics/elasticity.h"
@@ -46,9 +47,10 @@ double depthOf(const FieldSample& g) {
 struct PointRef {
   bool free;
   int device, sample, element;
-  double s;  // material coordinate [m]
-  Vec3 p;    // [m]
-  double r;  // [m]
+  double s;         // material coordinate [m]
+  Vec3 p;           // [m]
+  double r;         // [m]
+  int in_lumen_of;  // effect 'coaxial': the outer device whose lumen holds it (-1: none)
 };
 
 struct Pair {
@@ -87,20 +89,81 @@ std::array<Vec3, 2> tangentBasis(const Vec3& n, const Vec3& axis) {
   return {t1, n.cross(t1)};
 }
 
-std::vector<PointRef> freePoints(const std::vector<DeviceModel>& devices,
-                                 const std::vector<DeviceState>& x,
-                                 const std::vector<std::vector<SamplePoint>>& samples,
-                                 const std::vector<DeviceWorkspace>& ws) {
+/// Outer device of device d (-1: none).
+int outerOf(const ContactProblem& pb, size_t d) {
+  return pb.outer_of && d < pb.outer_of->size() ? (*pb.outer_of)[d] : -1;
+}
+
+/// Sample points of all devices at x. A point of an inner device within its
+/// outer device's lumen, or less than a few radii beyond its tip, is marked:
+/// it touches the outer device through the lumen constraint, never as a pair.
+std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<DeviceState>& x) {
+  const auto& devices = *pb.devices;
+  const auto& samples = *pb.samples;
   std::vector<PointRef> pts;
-  for (size_t d = 0; d < devices.size(); ++d)
+  for (size_t d = 0; d < devices.size(); ++d) {
+    const int outer = outerOf(pb, d);
+    const double reach = outer < 0
+                             ? 0.0
+                             : x[outer].inserted_length + 4.0 * devices[outer].node_radius.back() +
+                                   devices[outer].elements.back().length;
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& sp = samples[d][k];
-      const double s =
-          devices[d].node_s[sp.element] + sp.xi * devices[d].elements[sp.element].length;
-      pts.push_back({isFree(sp, ws[d].first_free_node), static_cast<int>(d), static_cast<int>(k),
-                     sp.element, s, samplePosition(devices[d], x[d], sp), sp.radius});
+      const double s = materialCoordinate(devices[d], sp);
+      const bool held = outer >= 0 && pathLength(devices[d], x[d], s) < reach;
+      pts.push_back({isFree(sp, (*pb.workspaces)[d].first_free_node), static_cast<int>(d),
+                     static_cast<int>(k), sp.element, s, samplePosition(devices[d], x[d], sp),
+                     sp.radius, held ? outer : -1});
     }
+  }
   return pts;
+}
+
+/// Effect 'coaxial': a point of an inner device beyond its outer device's
+/// lumen at x.
+struct LumenViolation {
+  int device, sample;
+  LumenLocation location;
+};
+
+/// Points of inner devices beyond the lumen by more than `tolerance` at x:
+/// all of them, or per inner element the deepest only.
+std::vector<LumenViolation> lumenViolations(const ContactProblem& pb,
+                                            const std::vector<DeviceState>& x, double tolerance,
+                                            bool deepest_per_element) {
+  const auto& devices = *pb.devices;
+  const auto& samples = *pb.samples;
+  std::vector<LumenViolation> out;
+  for (size_t d = 0; d < devices.size(); ++d) {
+    const int outer = outerOf(pb, d);
+    if (outer < 0) continue;
+    const int first_free = (*pb.workspaces)[d].first_free_node;
+    int element = -1;
+    for (size_t k = 0; k < samples[d].size(); ++k) {
+      const SamplePoint& s = samples[d][k];
+      if (!isFree(s, first_free)) continue;
+      const LumenLocation loc = locateInLumen(devices[d], x[d], s, devices[outer], x[outer]);
+      if (!loc.inside || loc.excess() <= tolerance) continue;
+      const LumenViolation v{static_cast<int>(d), static_cast<int>(k), loc};
+      if (deepest_per_element && s.element == element) {
+        if (loc.excess() > out.back().location.excess()) out.back() = v;
+        continue;
+      }
+      element = s.element;
+      out.push_back(v);
+    }
+  }
+  return out;
+}
+
+/// The lumen contact of a violation: the point against the lumen's tangent
+/// plane where it lies.
+Contact lumenContact(const LumenViolation& v, int outer) {
+  Contact ct{v.device, v.sample, v.location.center, v.location.normal, 0, 0, outer, -1};
+  ct.other = v.location.axis;
+  ct.separation = -v.location.clearance;
+  ct.lumen = true;
+  return ct;
 }
 
 /// Pairs of points, at least one of them free, closer than the sum of their
@@ -133,6 +196,7 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
             if (j <= i) continue;
             const PointRef& b = pts[j];
             if (!a.free && !b.free) continue;
+            if (a.in_lumen_of == b.device || b.in_lumen_of == a.device) continue;
             const double dist = (a.p - b.p).norm();
             if (dist >= a.r + b.r + margin || dist == 0.0) continue;
             if (a.device == b.device) {
@@ -314,15 +378,46 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   auto addPair = [&](const PointRef& a, const PointRef& b, const Vec3& n) {
     pair_contact[{a.device, a.sample, b.device, b.sample}] = static_cast<int>(contacts->size());
     Contact ct{a.device, a.sample, b.p, n, 0, 0, b.device, b.sample};
+    ct.other = samples[b.device][b.sample];
+    ct.separation = a.r + b.r;
     contacts->push_back(ct);
   };
   if (o.device_contact) {
     const auto tp = Clock::now();
-    const std::vector<PointRef> pts = freePoints(devices, xf, samples, ws);
+    const std::vector<PointRef> pts = freePoints(pb, xf);
     for (const Pair& pr : findPairs(devices, pts, 0.0))
       addPair(pts[pr.a], pts[pr.b], normalOf(xf, pts[pr.a], pts[pr.b]));
     ++st->pair_passes;
     st->pairs_ms += msSince(tp);
+  }
+  // Inner devices' points beyond their outer device's lumen at x_f, and the
+  // lumen contacts of the previous step that carried a force.
+  const bool coaxial = pb.outer_of && !pb.outer_of->empty();
+  std::map<std::array<int, 2>, int> lumen_contact;  // (device, sample) -> contact
+  auto addLumen = [&](const LumenViolation& v) {
+    lumen_contact[{v.device, v.sample}] = static_cast<int>(contacts->size());
+    contacts->push_back(lumenContact(v, outerOf(pb, v.device)));
+  };
+  if (coaxial) {
+    const auto tl = Clock::now();
+    for (const LumenViolation& v : lumenViolations(pb, xf, 0.0, true)) addLumen(v);
+    if (pb.previous)
+      for (const Contact& prev : *pb.previous) {
+        if (!prev.lumen || prev.force <= 0.0 || prev.device >= static_cast<int>(nd) ||
+            outerOf(pb, prev.device) != prev.other_device)
+          continue;
+        const int d = prev.device, k = prev.sample, outer = prev.other_device;
+        const SamplePoint& s = samples[d][k];
+        if (lumen_contact.count({d, k}) || !isFree(s, ws[d].first_free_node)) continue;
+        const LumenViolation v{d, k,
+                               locateInLumen(devices[d], xf[d], s, devices[outer], xf[outer])};
+        if (!v.location.inside || v.location.across.norm() == 0.0) continue;
+        addLumen(v);
+        contacts->back().force = prev.force;  // the friction solver's warm start
+        contacts->back().friction = prev.friction;
+      }
+    ++st->lumen_passes;
+    st->lumen_ms += msSince(tl);
   }
   st->detection_ms += msSince(t0);
 
@@ -343,7 +438,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     VecX q(m), mu(o.friction ? c : 0);
     // Parts of each row per device: (row, sample, signed row of H).
     struct Part {
-      int row, sample;
+      int row, element;
       Row12 h;
     };
     std::vector<std::vector<Part>> parts(nd);
@@ -353,10 +448,9 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     // from x_f (a pre-shaped tip squeezed into a narrow lumen springs open by
     // millimetres in the free motion) keeps stale rows and stops converging.
     // Adds the part's row of H at x; returns its share of H (x_f - x).
-    auto addPart = [&](int row, int device, int sample, const Vec3& n, double sign) {
-      const SamplePoint& s = samples[device][sample];
+    auto addPart = [&](int row, int device, const SamplePoint& s, const Vec3& n, double sign) {
       const Row12 h = sign * contactRow(devices[device], x[device], s, n);
-      parts[device].push_back({row, sample, h});
+      parts[device].push_back({row, s.element, h});
       const int at = 6 * s.element;
       return h.dot(dq_free[device].segment<12>(at) - dq[device].segment<12>(at));
     };
@@ -365,16 +459,16 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       const SamplePoint& s = samples[ct.device][ct.sample];
       const Vec3 p = samplePosition(devices[ct.device], x[ct.device], s);
       const int row = dim * i;
-      q(row) = addPart(row, ct.device, ct.sample, ct.normal, 1.0);
+      q(row) = addPart(row, ct.device, s, ct.normal, 1.0);
       const SamplePoint* so = nullptr;
       Vec3 po = Vec3::Zero();
       if (ct.other_device < 0) {
         q(row) += ct.normal.dot(p - ct.point);
       } else {
-        so = &samples[ct.other_device][ct.other_sample];
+        so = &ct.other;
         po = samplePosition(devices[ct.other_device], x[ct.other_device], *so);
-        q(row) += ct.normal.dot(p - po) - (s.radius + so->radius) +
-                  addPart(row, ct.other_device, ct.other_sample, ct.normal, -1.0);
+        q(row) += ct.normal.dot(p - po) - ct.separation +
+                  addPart(row, ct.other_device, *so, ct.normal, -1.0);
       }
       if (!o.friction) continue;
       // Tangent rows: q is the slip over the step (relative to the other
@@ -385,8 +479,8 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       mu(i) = so ? std::sqrt(s.friction * so->friction) : s.friction;
       for (int k = 0; k < 2; ++k) {
         const Vec3& t = tangents[i][k];
-        q(row + 1 + k) = t.dot(slip) + addPart(row + 1 + k, ct.device, ct.sample, t, 1.0);
-        if (so) q(row + 1 + k) += addPart(row + 1 + k, ct.other_device, ct.other_sample, t, -1.0);
+        q(row + 1 + k) = t.dot(slip) + addPart(row + 1 + k, ct.device, s, t, 1.0);
+        if (so) q(row + 1 + k) += addPart(row + 1 + k, ct.other_device, *so, t, -1.0);
       }
     }
     std::vector<std::vector<int>> of_device(nd);  // rows with a part on each device
@@ -396,9 +490,8 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       std::vector<ContactRow> device_rows;
       std::map<int, int> column;  // row -> column
       for (const Part& pt : parts[d]) {
-        const SamplePoint& s = samples[d][pt.sample];
         const Row12& h = pt.h;
-        const int offset = 6 * (s.element - ws[d].first_free_node);
+        const int offset = 6 * (pt.element - ws[d].first_free_node);
         const auto it = column.find(pt.row);
         if (it == column.end()) {
           column[pt.row] = static_cast<int>(device_rows.size());
@@ -514,7 +607,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     if (o.device_contact) {
       const auto tp = Clock::now();
       ++st->pair_passes;
-      const std::vector<PointRef> pts = freePoints(devices, x, samples, ws);
+      const std::vector<PointRef> pts = freePoints(pb, x);
       for (const Pair& pr : findPairs(devices, pts, -o.penetration_tolerance)) {
         solved = false;
         const PointRef &a = pts[pr.a], &b = pts[pr.b];
@@ -531,6 +624,33 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       }
       st->pairs_ms += msSince(tp);
     }
+    if (coaxial) {
+      // Like wall contacts: a point still beyond the lumen has its contact
+      // moved to the tangent plane where it now lies, once; beyond it again,
+      // it gets a second plane (updates alone converge slowly: measured on
+      // carotid_catheter, nearly every step needed halving).
+      const auto tl = Clock::now();
+      ++st->lumen_passes;
+      for (const LumenViolation& v : lumenViolations(pb, x, o.penetration_tolerance, false)) {
+        solved = false;
+        deepest = std::max(deepest, v.location.excess());
+        st->max_penetration_m = deepest;
+        const auto it = lumen_contact.find({v.device, v.sample});
+        if (it != lumen_contact.end() && !updated[it->second]) {
+          const Contact fresh = lumenContact(v, outerOf(pb, v.device));
+          Contact& ct = (*contacts)[it->second];
+          ct.point = fresh.point;
+          ct.normal = fresh.normal;
+          ct.other = fresh.other;
+          ct.separation = fresh.separation;
+          updated[it->second] = 1;
+        } else {
+          addLumen(v);
+          updated.push_back(0);
+        }
+      }
+      st->lumen_ms += msSince(tl);
+    }
     st->detection_ms += msSince(t0);
   }
 
@@ -541,11 +661,10 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     if (ct.other_device < 0) {
       ct.gap = ct.normal.dot(p - ct.point);
     } else {
-      const SamplePoint& so = samples[ct.other_device][ct.other_sample];
-      const Vec3 po = samplePosition(devices[ct.other_device], x[ct.other_device], so);
-      ct.gap = ct.normal.dot(p - po) - (s.radius + so.radius);
-      st->max_penetration_m =
-          std::max(st->max_penetration_m, -((p - po).norm() - s.radius - so.radius));
+      const Vec3 po = samplePosition(devices[ct.other_device], x[ct.other_device], ct.other);
+      ct.gap = ct.normal.dot(p - po) - ct.separation;
+      if (!ct.lumen)  // (lumen excess: measured by the last loop's pass)
+        st->max_penetration_m = std::max(st->max_penetration_m, -((p - po).norm() - ct.separation));
     }
     if (ct.force > 0.0) ++st->active_contacts;
     if (ct.force <= 0.0) ct.friction.setZero();

@@ -15,6 +15,7 @@ DeviceModel buildDeviceModel(const DeviceSpec& spec) {
   m.max_rotation_speed = spec.max_rotation_speed;
   m.rayleigh_mass = spec.rayleigh_mass;
   m.rayleigh_stiffness = spec.rayleigh_stiffness;
+  m.detachable = spec.detachable;
 
   int num_elements = 0;
   for (const auto& sec : spec.sections) {
@@ -25,6 +26,11 @@ DeviceModel buildDeviceModel(const DeviceSpec& spec) {
     if (!(sec.friction >= 0.0))
       throw std::invalid_argument("section " + sec.name + " has a negative friction coefficient");
     m.section_friction.push_back(sec.friction);
+    if (!(sec.lumen_friction >= 0.0))
+      throw std::invalid_argument("section " + sec.name +
+                                  " has a negative lumen friction coefficient");
+    m.section_lumen_radius.push_back(sec.section.inner_radius);
+    m.section_lumen_friction.push_back(sec.lumen_friction);
   }
   m.num_nodes = num_elements + 1;
   const int n = m.num_nodes;

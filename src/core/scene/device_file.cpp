@@ -59,6 +59,15 @@ class AttributeReader {
     return v;
   }
 
+  bool boolean(const char* name, bool fallback) const {
+    const char* text = element_->Attribute(name);
+    if (!text) return fallback;
+    const std::string v = text;
+    if (v == "true" || v == "1") return true;
+    if (v == "false" || v == "0") return false;
+    fail(name, "must be true or false, got '" + v + "'");
+  }
+
   [[noreturn]] void fail(const std::string& name, const std::string& what) const {
     throw LoadError(file_, element_->Row(), prefix_ + name, what);
   }
@@ -137,6 +146,9 @@ DeviceSectionSpec readSection(const std::string& path, const TiXmlElement* robot
       x.fail("rest_curvature", "turns more than 90 degrees per element: add elements");
   }
   sec.friction = x.nonNegative("friction", 0.0);
+  sec.lumen_friction = x.nonNegative("lumen_friction", 0.0);
+  if (sec.lumen_friction > 0.0 && sec.section.inner_radius == 0.0)
+    x.fail("lumen_friction", "a solid section (inner_radius 0) has no lumen");
   sec.section.density = m / (sec.section.area() * sec.length);
   return sec;
 }
@@ -195,6 +207,7 @@ DeviceSpec loadDeviceFile(const std::string& path) {
   spec.max_rotation_speed = d.positive("max_rotation_speed");
   spec.rayleigh_mass = d.nonNegative("rayleigh_mass", 0.0);
   spec.rayleigh_stiffness = d.nonNegative("rayleigh_stiffness", 0.0);
+  spec.detachable = d.boolean("detachable", false);
   return spec;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <sstream>
 
 #include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/scene/device_file.h"
@@ -36,13 +37,21 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
   if (!fs::exists(d.file)) r.fail(n["file"], p + "file", "no device file " + d.file);
   d.device = loadDeviceFile(d.file);
   if (n["name"]) d.device.name = r.text(n["name"], p + "name");
-  d.introducer.access_point =
-      r.vector3(r.required(n, "access_point", p + "access_point"), p + "access_point");
-  const Vec3 dir = r.vector3(r.required(n, "insertion_direction", p + "insertion_direction"),
-                             p + "insertion_direction");
-  if (dir.norm() < 1e-9) r.fail(n["insertion_direction"], p + "insertion_direction", "is zero");
-  const Vec3 up = n["up"] ? r.vector3(n["up"], p + "up") : Vec3(0.0, 0.0, 1.0);
-  d.introducer.frame = introducerFrame(dir, up);
+  if (n["inside"]) {  // enters through the outer device: its introducer (resolved by the caller)
+    d.inside = r.text(n["inside"], p + "inside");
+    for (const char* key : {"access_point", "insertion_direction", "up"})
+      if (n[key])
+        r.fail(n[key], p + key,
+               "a device inside another enters through that device's introducer: remove it");
+  } else {
+    d.introducer.access_point =
+        r.vector3(r.required(n, "access_point", p + "access_point"), p + "access_point");
+    const Vec3 dir = r.vector3(r.required(n, "insertion_direction", p + "insertion_direction"),
+                               p + "insertion_direction");
+    if (dir.norm() < 1e-9) r.fail(n["insertion_direction"], p + "insertion_direction", "is zero");
+    const Vec3 up = n["up"] ? r.vector3(n["up"], p + "up") : Vec3(0.0, 0.0, 1.0);
+    d.introducer.frame = introducerFrame(dir, up);
+  }
   const DeviceModel model = buildDeviceModel(d.device);
   d.inserted_length = r.number(n, "inserted_length", p, 0.0);
   if (d.inserted_length < 0.0 || d.inserted_length > model.length)
@@ -167,6 +176,42 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   return o;
 }
 
+/// Effect 'coaxial': the outer device of devices[i] ("inside: NAME") is
+/// listed before it, and every section of the inner device fits the outer
+/// device's narrowest lumen.
+void resolveOuterDevice(const YamlReader& r, const YAML::Node& n, int i, SceneSpec* scene) {
+  DevicePlacementSpec& inner = scene->devices[i];
+  const std::string p = "devices[" + std::to_string(i) + "].inside";
+  for (int j = 0; j < i; ++j)
+    if (scene->devices[j].device.name == inner.inside) inner.outer = j;
+  if (inner.outer < 0) {
+    std::string names;
+    for (int j = 0; j < i; ++j)
+      names += (names.empty() ? "" : ", ") + scene->devices[j].device.name;
+    r.fail(n["inside"], p,
+           "unknown device '" + inner.inside + "' (the outer device must be listed before; " +
+               (names.empty() ? std::string("none is") : "listed before: " + names) + ")");
+  }
+  const DevicePlacementSpec& outer = scene->devices[inner.outer];
+  inner.introducer = outer.introducer;
+  double lumen = INFINITY;
+  std::string narrowest;
+  for (const auto& sec : outer.device.sections)
+    if (sec.section.inner_radius < lumen) {
+      lumen = sec.section.inner_radius;
+      narrowest = sec.name;
+    }
+  for (const auto& sec : inner.device.sections)
+    if (sec.section.outer_radius >= lumen) {
+      std::ostringstream why;
+      why << "section '" << sec.name << "' of device '" << inner.device.name << "' (radius "
+          << sec.section.outer_radius * 1e3 << " mm) is wider than the lumen of '"
+          << outer.device.name << "' (radius " << lumen * 1e3 << " mm in section '" << narrowest
+          << "')";
+      r.fail(n["inside"], p, why.str());
+    }
+}
+
 ScriptedCommand readCommand(const YamlReader& r, const YAML::Node& n, int index,
                             const SceneSpec& scene) {
   const std::string p = "script[" + std::to_string(index) + "].";
@@ -196,8 +241,8 @@ ScriptedCommand readCommand(const YamlReader& r, const YAML::Node& n, int index,
 }  // namespace
 
 const std::vector<std::string>& knownEffects() {
-  static const std::vector<std::string> effects = {"gravity", "vessel_motion", "device_contact",
-                                                   "subdivision", "friction"};
+  static const std::vector<std::string> effects = {"gravity",     "vessel_motion", "device_contact",
+                                                   "subdivision", "friction",      "coaxial"};
   return effects;
 }
 
@@ -243,13 +288,23 @@ SceneSpec loadSceneFile(const std::string& path) {
   const YAML::Node devices = r.required(root, "devices", "devices");
   if (!devices.IsSequence() || devices.size() == 0)
     r.fail(devices, "devices", "must be a non-empty list");
+  const bool coaxial = std::find(s.effects.begin(), s.effects.end(), "coaxial") != s.effects.end();
+  bool any_inside = false;
   for (size_t i = 0; i < devices.size(); ++i) {
     s.devices.push_back(readDevice(r, devices[i], static_cast<int>(i), scene_dir));
     for (size_t j = 0; j < i; ++j)
       if (s.devices[j].device.name == s.devices[i].device.name)
         r.fail(devices[i], "devices[" + std::to_string(i) + "].name",
                "device name '" + s.devices[i].device.name + "' is used twice");
+    if (s.devices[i].inside.empty()) continue;
+    if (!coaxial)
+      r.fail(devices[i]["inside"], "devices[" + std::to_string(i) + "].inside",
+             "needs the effect 'coaxial'");
+    resolveOuterDevice(r, devices[i], static_cast<int>(i), &s);
+    any_inside = true;
   }
+  if (coaxial && !any_inside)
+    r.fail(root["effects"], "effects", "'coaxial' needs a device with 'inside: OUTER'");
 
   if (root["script"]) {
     const YAML::Node script = root["script"];

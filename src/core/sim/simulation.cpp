@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "endovascular_sim/contact/coaxial.h"
+
 namespace evsim {
 namespace {
 
@@ -29,6 +31,7 @@ void addTimes(const ContactStats& c, StepStats* s) {
   s->lcp_ms += c.lcp_ms;
   s->correction_ms += c.correction_ms;
   s->device_contact_ms += c.pairs_ms;
+  s->coaxial_ms += c.lumen_ms;
 }
 
 void addResults(const ContactStats& c, StepStats* s) {
@@ -59,7 +62,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
   }
   std::vector<Contact> previous;  // the last (sub-)step's contacts: persisting planes
   previous.swap(data->contacts);
-  if (model.surface || model.contact.device_contact) {
+  if (model.surface || model.contact.device_contact || model.effects.coaxial) {
     ContactProblem pb;
     pb.previous = &previous;
     pb.devices = &model.devices;
@@ -67,6 +70,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     pb.workspaces = &data->workspaces;
     pb.samples = &model.samples;
     pb.surface = model.surface.get();
+    if (model.effects.coaxial) pb.outer_of = &model.outer_of;
     if (model.effects.vessel_motion) {
       const auto t0 = Clock::now();
       pb.motion = model.surface->motionAt(data->time + dt);
@@ -83,6 +87,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     addTimes(cs, &data->stats);
     data->effect_calls.device_contact += cs.pair_passes;
     data->effect_calls.friction += cs.friction_solves;
+    data->effect_calls.coaxial += cs.lumen_passes;
     if (!solved) {
       data->contacts.swap(previous);  // a subdivided step starts from them again
       data->last_error = "contacts not solved after " +
@@ -151,6 +156,8 @@ SceneModel buildSceneModel(const SceneSpec& spec) {
       m.effects.subdivision = true;
     else if (e == "friction")
       m.effects.friction = true;
+    else if (e == "coaxial")
+      m.effects.coaxial = true;
   if (m.effects.gravity) m.gravity = spec.gravity;
   if (spec.vessels.present) {
     m.vessels = std::make_shared<const VesselField>(
@@ -165,6 +172,7 @@ SceneModel buildSceneModel(const SceneSpec& spec) {
     m.initial_inserted_length.push_back(d.inserted_length);
     m.initial_rotation.push_back(d.rotation);
     m.samples.push_back(sampleDevice(m.devices.back(), m.contact.contact_spacing));
+    if (m.effects.coaxial) m.outer_of.push_back(d.outer);
   }
   m.script = spec.script;
   return m;
@@ -177,9 +185,16 @@ SceneModel loadScene(const std::string& name_or_path) {
 SimData makeData(const SceneModel& model) {
   SimData d;
   const size_t n = model.devices.size();
-  for (size_t i = 0; i < n; ++i)
-    d.devices.push_back(placeDevice(model.devices[i], model.introducers[i],
-                                    model.initial_inserted_length[i], model.initial_rotation[i]));
+  for (size_t i = 0; i < n; ++i) {
+    const int outer = model.outer_of.empty() ? -1 : model.outer_of[i];
+    if (outer >= 0)  // listed after its outer device (the loader checks)
+      d.devices.push_back(placeInside(model.devices[i], model.introducers[i],
+                                      model.initial_inserted_length[i], model.initial_rotation[i],
+                                      model.devices[outer], d.devices[outer]));
+    else
+      d.devices.push_back(placeDevice(model.devices[i], model.introducers[i],
+                                      model.initial_inserted_length[i], model.initial_rotation[i]));
+  }
   d.commands.assign(n, DriveCommand{});
   d.workspaces = std::vector<DeviceWorkspace>(n);
   return d;

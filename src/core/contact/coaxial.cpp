@@ -1,0 +1,124 @@
+#include "endovascular_sim/contact/coaxial.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace evsim {
+namespace {
+
+/// Element holding material coordinate s and the parameter there.
+void elementAt(const DeviceModel& model, double s, int* element, double* xi) {
+  const int ne = model.num_nodes - 1;
+  const auto it = std::upper_bound(model.node_s.begin(), model.node_s.end(), s);
+  *element = std::clamp(static_cast<int>(it - model.node_s.begin()) - 1, 0, ne - 1);
+  *xi = std::clamp((s - model.node_s[*element]) / model.elements[*element].length, 0.0, 1.0);
+}
+
+/// Closest point of one element's axis to y: Newton on
+/// f(xi) = |p(xi) - y|^2 / 2 from the chord's projection, xi kept in [0, 1].
+double closestOnElement(const DeviceModel& model, const DeviceState& x, int e, const Vec3& y,
+                        double* distance) {
+  const Vec3 chord = x.position[e + 1] - x.position[e];
+  double xi = std::clamp(chord.dot(y - x.position[e]) / chord.squaredNorm(), 0.0, 1.0);
+  for (int it = 0; it < 8; ++it) {
+    const AxisPoint a = axisPoint(model, x, e, xi);
+    const Vec3 r = a.position - y;
+    const double g = a.first.dot(r);
+    const double h = a.second.dot(r) + a.first.squaredNorm();
+    if (!(h > 0.0)) break;
+    const double next = std::clamp(xi - g / h, 0.0, 1.0);
+    const bool done = std::abs(next - xi) < 1e-12;
+    xi = next;
+    if (done) break;
+  }
+  *distance = (axisPoint(model, x, e, xi).position - y).norm();
+  return xi;
+}
+
+/// The outer device's frame at (element, xi): nodal frames interpolated.
+Quat frameAt(const DeviceState& x, int element, double xi) {
+  return x.rotation[element].slerp(xi, x.rotation[element + 1]);
+}
+
+Mat3 rotationX(double angle) { return Eigen::AngleAxisd(angle, Vec3::UnitX()).toRotationMatrix(); }
+
+}  // namespace
+
+double pathLength(const DeviceModel& model, const DeviceState& state, double s) {
+  return s - (model.length - state.inserted_length);
+}
+
+double materialCoordinate(const DeviceModel& model, const SamplePoint& s) {
+  return model.node_s[s.element] + s.xi * model.elements[s.element].length;
+}
+
+LumenLocation locateInLumen(const DeviceModel& inner, const DeviceState& x_inner,
+                            const SamplePoint& s, const DeviceModel& outer,
+                            const DeviceState& x_outer) {
+  LumenLocation loc;
+  const double a = pathLength(inner, x_inner, materialCoordinate(inner, s));
+  if (a <= 0.0 || a >= x_outer.inserted_length) return loc;
+  loc.inside = true;
+  int e0;
+  double xi0;
+  elementAt(outer, a + outer.length - x_outer.inserted_length, &e0, &xi0);
+  // The same path length on both devices is a guess (the inner device runs
+  // off the axis in bends): the closest point within two elements of it.
+  const Vec3 p = samplePosition(inner, x_inner, s);
+  const int ne = outer.num_nodes - 1;
+  double best = INFINITY;
+  for (int e = std::max(0, e0 - 2); e <= std::min(ne - 1, e0 + 2); ++e) {
+    double d;
+    const double xi = closestOnElement(outer, x_outer, e, p, &d);
+    if (d < best) {
+      best = d;
+      loc.axis.element = e;
+      loc.axis.xi = xi;
+    }
+  }
+  const int section = outer.element_section[loc.axis.element];
+  loc.axis.radius = outer.section_lumen_radius[section];
+  loc.axis.friction = outer.section_lumen_friction[section];
+  const AxisPoint c = axisPoint(outer, x_outer, loc.axis.element, loc.axis.xi);
+  loc.center = c.position;
+  loc.tangent = c.first.normalized();
+  const Vec3 d = p - loc.center;
+  loc.across = d - d.dot(loc.tangent) * loc.tangent;
+  loc.clearance = loc.axis.radius - s.radius;
+  const double across = loc.across.norm();
+  loc.normal = across > 0.0 ? Vec3(-loc.across / across) : loc.tangent.unitOrthogonal();
+  return loc;
+}
+
+DeviceState placeInside(const DeviceModel& inner, const Introducer& intro, double inserted_length,
+                        double rotation_angle, const DeviceModel& outer,
+                        const DeviceState& x_outer) {
+  DeviceState s = placeDevice(inner, intro, inserted_length, rotation_angle);
+  int last = -1;  // last node on the outer axis
+  for (int i = lastHeldNode(inner, inserted_length) + 1; i < inner.num_nodes; ++i) {
+    const double a = pathLength(inner, s, inner.node_s[i]);
+    if (a > x_outer.inserted_length + 1e-12) break;
+    int e;
+    double xi;
+    const double s_out = a + outer.length - x_outer.inserted_length;
+    elementAt(outer, s_out, &e, &xi);
+    s.position[i] = axisPoint(outer, x_outer, e, xi).position;
+    // Twist continues from the sheath: the inner device's own rotation and
+    // rest twist relative to the outer device's.
+    const double twist_out =
+        outer.rest_twist[e] + xi * (outer.rest_twist[e + 1] - outer.rest_twist[e]);
+    s.rotation[i] =
+        Quat(frameAt(x_outer, e, xi).toRotationMatrix() *
+             rotationX(rotation_angle - x_outer.rotation_angle + inner.rest_twist[i] - twist_out));
+    last = i;
+  }
+  if (last < 0) return s;
+  const Mat3 T = s.rotation[last].toRotationMatrix() * inner.rest_rotation[last].transpose();
+  for (int i = last + 1; i < inner.num_nodes; ++i) {
+    s.position[i] = s.position[last] + T * (inner.rest_position[i] - inner.rest_position[last]);
+    s.rotation[i] = Quat(T * inner.rest_rotation[i]);
+  }
+  return s;
+}
+
+}  // namespace evsim
