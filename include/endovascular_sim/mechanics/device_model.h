@@ -33,7 +33,6 @@ struct DeviceSpec {
   double max_rotation_speed{6.2832};  // [rad/s]
   double rayleigh_mass{0.0};          // alpha in D = alpha M + beta K [1/s]
   double rayleigh_stiffness{0.0};     // beta [s]
-  bool detachable{false};             // may be released from its pusher (a coil)
 };
 
 struct DeviceModel {
@@ -57,7 +56,6 @@ struct DeviceModel {
   double max_rotation_speed{0.0};              // [rad/s]
   double rayleigh_mass{0.0};                   // [1/s]
   double rayleigh_stiffness{0.0};              // [s]
-  bool detachable{false};
 };
 
 /// Discretises the sections into elements and integrates the rest shape.

@@ -15,7 +15,6 @@ DeviceModel buildDeviceModel(const DeviceSpec& spec) {
   m.max_rotation_speed = spec.max_rotation_speed;
   m.rayleigh_mass = spec.rayleigh_mass;
   m.rayleigh_stiffness = spec.rayleigh_stiffness;
-  m.detachable = spec.detachable;
 
   int num_elements = 0;
   for (const auto& sec : spec.sections) {

@@ -59,15 +59,6 @@ class AttributeReader {
     return v;
   }
 
-  bool boolean(const char* name, bool fallback) const {
-    const char* text = element_->Attribute(name);
-    if (!text) return fallback;
-    const std::string v = text;
-    if (v == "true" || v == "1") return true;
-    if (v == "false" || v == "0") return false;
-    fail(name, "must be true or false, got '" + v + "'");
-  }
-
   [[noreturn]] void fail(const std::string& name, const std::string& what) const {
     throw LoadError(file_, element_->Row(), prefix_ + name, what);
   }
@@ -207,7 +198,6 @@ DeviceSpec loadDeviceFile(const std::string& path) {
   spec.max_rotation_speed = d.positive("max_rotation_speed");
   spec.rayleigh_mass = d.nonNegative("rayleigh_mass", 0.0);
   spec.rayleigh_stiffness = d.nonNegative("rayleigh_stiffness", 0.0);
-  spec.detachable = d.boolean("detachable", false);
   return spec;
 }
 
