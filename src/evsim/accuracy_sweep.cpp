@@ -99,6 +99,29 @@ std::vector<Setting> sceneSettings(const SceneSpec& base) {
                    o->lcp.solver = LcpSolver::kPgs;
                    o->lcp.max_iterations = sweeps;
                  })});
+  for (double tol : {1e-6, 1e-9, 1e-14}) {
+    std::ostringstream v;
+    v << tol;
+    s.push_back(
+        {"lcp_tolerance", v.str(), contact([tol](ContactOptions* o) { o->lcp.tolerance = tol; })});
+  }
+  if (base.contact.friction) {  // the frictional solvers replace the LCP's
+    s.push_back({"friction_solver", "newton", contact([](ContactOptions* o) {
+                   o->friction_solver.solver = FrictionSolver::kNewton;
+                 })});
+    for (int sweeps : {10, 100, 1000})
+      s.push_back({"friction_solver", "nsgs_" + std::to_string(sweeps),
+                   contact([sweeps](ContactOptions* o) {
+                     o->friction_solver.solver = FrictionSolver::kNsgs;
+                     o->friction_solver.max_sweeps = sweeps;
+                   })});
+    for (double tol : {1e-4, 1e-6, 1e-8}) {
+      std::ostringstream v;
+      v << tol;
+      s.push_back({"friction_tolerance", v.str(),
+                   contact([tol](ContactOptions* o) { o->friction_solver.tolerance = tol; })});
+    }
+  }
   for (double tol : {1e-4, 1e-5, 1e-7, 1e-8}) {
     std::ostringstream v;
     v << tol;
@@ -141,6 +164,9 @@ SceneSpec referenceSpec(SceneSpec spec) {
   spec.contact.max_activation_loops = 50;
   spec.contact.max_subdivisions = 8;
   spec.contact.root.tolerance = 1e-12;
+  spec.contact.friction_solver.solver = FrictionSolver::kNewton;
+  spec.contact.friction_solver.tolerance = 1e-12;
+  spec.contact.friction_solver.max_sweeps = 100000;
   return spec;
 }
 

@@ -76,6 +76,8 @@ int runCommand(int argc, char** argv) {
       std::cerr << "evsim: step " << data.step + 1 << " failed: " << data.last_error << "\n";
       return 1;
     }
+    for (const std::string& notice : data.notices) std::cerr << "evsim: " << notice << "\n";
+    data.notices.clear();
     wall_ms += data.stats.wall_ms;
     if (!dump_dir.empty() && data.lcp.q.size() > 0) {
       char name[64];

@@ -82,6 +82,8 @@ endovascular_sim::ContactArray toContactArrayMsg(const FrameSnapshot& f,
     mc.point = toPoint(c.point);
     mc.normal = toVector3(c.normal);
     mc.force = c.force;
+    mc.friction = toVector3(c.friction);
+    mc.lumen = c.lumen;
     mc.gap = c.gap;
     m.contacts.push_back(mc);
   }

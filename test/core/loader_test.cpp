@@ -156,6 +156,14 @@ TEST_F(Loader, InnerRadiusWiderThanOuterIsRefused) {
               15, "evsim_section[shaft]/inner_radius", "must be smaller");
 }
 
+TEST_F(Loader, DetachSectionMustNameALaterLink) {
+  for (const char* link : {"shaft", "nowhere"})
+    expectNames(
+        deviceError("max_rotation_speed=\"6.28\"",
+                    std::string("max_rotation_speed=\"6.28\" detach_section=\"") + link + "\""),
+        "wire.urdf", 14, "evsim_device/detach_section", "must name a link after the first");
+}
+
 TEST_F(Loader, NegativeFrictionCoefficientIsRefused) {
   expectNames(deviceError("elements=\"30\"", "elements=\"30\" friction=\"-0.1\""), "wire.urdf", 15,
               "evsim_section[shaft]/friction", "must not be negative");

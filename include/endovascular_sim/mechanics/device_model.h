@@ -33,6 +33,7 @@ struct DeviceSpec {
   double max_rotation_speed{6.2832};  // [rad/s]
   double rayleigh_mass{0.0};          // alpha in D = alpha M + beta K [1/s]
   double rayleigh_stiffness{0.0};     // beta [s]
+  std::string detach_section;         // a coil: the section that detaches on command ("": none)
 };
 
 struct DeviceModel {
@@ -56,6 +57,7 @@ struct DeviceModel {
   double max_rotation_speed{0.0};              // [rad/s]
   double rayleigh_mass{0.0};                   // [1/s]
   double rayleigh_stiffness{0.0};              // [s]
+  int detach_element{-1};  // cut on detach: the last element before detach_section (-1: none)
 };
 
 /// Discretises the sections into elements and integrates the rest shape.

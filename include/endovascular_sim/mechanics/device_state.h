@@ -16,6 +16,8 @@ struct DeviceState {
   double inserted_length{0.0};         // material past the access point [m]
   double rotation_angle{0.0};          // commanded proximal rotation [rad]
   bool released{false};                // detached: no node held, commands ignored
+  int cut_element{-1};  // after detach: this element (pusher | coil) carries no stiffness and
+                        // no contact, and no node beyond it is held (-1: not detached)
 };
 
 /// State at rest in the model's rest shape, moved by the rigid motion (R, t).

@@ -27,6 +27,7 @@ struct ScriptedCommand {
   double time{0.0};  // [s] from the start
   int device{0};     // index into the scene's devices
   DriveCommand command;
+  bool detach{false};  // mode 'detach': the device's detach_section comes off (no drive change)
 };
 
 /// The vessels of a scene (none: free space).

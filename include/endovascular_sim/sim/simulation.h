@@ -101,7 +101,8 @@ struct SimData {
   size_t next_script_entry{0};
   StepStats stats;
   EffectCounters effect_calls;
-  std::string last_error;  // why the last failed step was rejected
+  std::string last_error;            // why the last failed step was rejected
+  std::vector<std::string> notices;  // scripted commands refused (runners print and clear them)
 };
 
 SceneModel buildSceneModel(const SceneSpec& spec);
@@ -114,6 +115,14 @@ SimData makeData(const SceneModel& model);
 
 /// Index of a device by name, -1 when unknown.
 int findDevice(const SceneModel& model, const std::string& name);
+
+/// Detaches a device's detach_section (a coil from its pusher): the element
+/// joining them is cut. Refused (with the reason; nothing changes) for an
+/// unknown device, one without a detach_section, one already detached, and
+/// while the junction has not wholly left the introducer (the
+/// microcatheter). Afterwards the pusher is driven as before and the coil is
+/// free.
+std::string detachDevice(const SceneModel& model, SimData* data, const std::string& device);
 
 /// Sets a device's drive command; returns why it was refused ("" if accepted).
 std::string setCommand(const SceneModel& model, SimData* data, const std::string& device,

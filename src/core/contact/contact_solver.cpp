@@ -36,6 +36,19 @@ bool isFree(const SamplePoint& s, int first_free) {
   return s.element + 1 >= first_free;
 }
 
+/// True when the sample point of device d takes part in contacts: it moves
+/// with a free node and does not lie inside the element cut by a detachment.
+bool takesPart(const ContactProblem& pb, size_t d, const SamplePoint& s) {
+  if (s.element == (*pb.start)[d].cut_element && s.xi > 0.0) return false;
+  return isFree(s, (*pb.workspaces)[d].first_free_node);
+}
+
+/// True for a point of a detached part (a coil cut from its pusher): it has
+/// left its outer device for good, so no lumen holds it.
+bool detached(const DeviceState& x, const SamplePoint& s) {
+  return x.cut_element >= 0 && s.element > x.cut_element;
+}
+
 /// Depth beyond the surface [m] (0 inside), from g / |grad g|.
 double depthOf(const FieldSample& g) {
   if (g.value >= 0.0) return 0.0;
@@ -109,11 +122,12 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
                                    devices[outer].elements.back().length;
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& sp = samples[d][k];
+      if (sp.element == x[d].cut_element && sp.xi > 0.0) continue;  // the detachment's gap
       const double s = materialCoordinate(devices[d], sp);
-      const bool held = outer >= 0 && pathLength(devices[d], x[d], s) < reach;
-      pts.push_back({isFree(sp, (*pb.workspaces)[d].first_free_node), static_cast<int>(d),
-                     static_cast<int>(k), sp.element, s, samplePosition(devices[d], x[d], sp),
-                     sp.radius, held ? outer : -1});
+      const bool held =
+          outer >= 0 && !detached(x[d], sp) && pathLength(devices[d], x[d], s) < reach;
+      pts.push_back({takesPart(pb, d, sp), static_cast<int>(d), static_cast<int>(k), sp.element, s,
+                     samplePosition(devices[d], x[d], sp), sp.radius, held ? outer : -1});
     }
   }
   return pts;
@@ -137,11 +151,10 @@ std::vector<LumenViolation> lumenViolations(const ContactProblem& pb,
   for (size_t d = 0; d < devices.size(); ++d) {
     const int outer = outerOf(pb, d);
     if (outer < 0) continue;
-    const int first_free = (*pb.workspaces)[d].first_free_node;
     int element = -1;
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& s = samples[d][k];
-      if (!isFree(s, first_free)) continue;
+      if (!takesPart(pb, d, s) || detached(x[d], s)) continue;
       const LumenLocation loc = locateInLumen(devices[d], x[d], s, devices[outer], x[outer]);
       if (!loc.inside || loc.excess() <= tolerance) continue;
       const LumenViolation v{static_cast<int>(d), static_cast<int>(k), loc};
@@ -313,7 +326,6 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   std::vector<std::vector<int>> contact_of(nd);  // sample -> contact index or -1
   for (size_t d = 0; d < nd; ++d) contact_of[d].assign(samples[d].size(), -1);
   for (size_t d = 0; d < nd && pb.surface; ++d) {
-    const int first_free = ws[d].first_free_node;
     // Per element, the deepest crossing at x_f only: the activation loop adds
     // any other point of the element that stays beyond the wall.
     int best_element = -1, best_sample = -1;
@@ -333,7 +345,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         flush();
         best_element = s.element;
       }
-      if (!isFree(s, first_free)) continue;
+      if (!takesPart(pb, d, s)) continue;
       const Vec3 p0 = samplePosition(devices[d], start[d], s);
       const Vec3 p1 = samplePosition(devices[d], xf[d], s);
       SurfacePoint hit = firstRoot(*pb.surface, p0, p1, s.radius, pb.motion, o.root);
@@ -358,7 +370,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         continue;
       const int d = prev.device, k = prev.sample;
       const SamplePoint& s = samples[d][k];
-      if (contact_of[d][k] >= 0 || !isFree(s, ws[d].first_free_node)) continue;
+      if (contact_of[d][k] >= 0 || !takesPart(pb, d, s)) continue;
       const SurfacePoint plane = projectToSurface(
           *pb.surface, samplePosition(devices[d], start[d], s), s.radius, pb.motion, 0.01, o.root);
       if (!plane.hit) continue;
@@ -408,7 +420,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
           continue;
         const int d = prev.device, k = prev.sample, outer = prev.other_device;
         const SamplePoint& s = samples[d][k];
-        if (lumen_contact.count({d, k}) || !isFree(s, ws[d].first_free_node)) continue;
+        if (lumen_contact.count({d, k}) || !takesPart(pb, d, s) || detached(start[d], s)) continue;
         const LumenViolation v{d, k,
                                locateInLumen(devices[d], xf[d], s, devices[outer], xf[outer])};
         if (!v.location.inside || v.location.across.norm() == 0.0) continue;
@@ -568,10 +580,9 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     solved = true;
     double deepest = 0.0;  // over all points at x: the step's penetration if this is the last loop
     for (size_t d = 0; d < nd && pb.surface; ++d) {
-      const int first_free = ws[d].first_free_node;
       for (size_t k = 0; k < samples[d].size(); ++k) {
         const SamplePoint& s = samples[d][k];
-        if (!isFree(s, first_free)) continue;
+        if (!takesPart(pb, d, s)) continue;
         const Vec3 p = samplePosition(devices[d], x[d], s);
         const FieldSample g = pb.surface->evaluate(p, s.radius, pb.motion);
         deepest = std::max(deepest, depthOf(g));

@@ -15,6 +15,16 @@ DeviceModel buildDeviceModel(const DeviceSpec& spec) {
   m.max_rotation_speed = spec.max_rotation_speed;
   m.rayleigh_mass = spec.rayleigh_mass;
   m.rayleigh_stiffness = spec.rayleigh_stiffness;
+  if (!spec.detach_section.empty()) {
+    int before = 0;  // elements before the detaching section
+    size_t k = 0;
+    for (; k < spec.sections.size() && spec.sections[k].name != spec.detach_section; ++k)
+      before += spec.sections[k].elements;
+    if (k == spec.sections.size() || k == 0)
+      throw std::invalid_argument("detach_section '" + spec.detach_section +
+                                  "' must name a section after the first");
+    m.detach_element = before - 1;
+  }
 
   int num_elements = 0;
   for (const auto& sec : spec.sections) {

@@ -18,6 +18,10 @@ double assembleElasticity(const DeviceModel& model, const DeviceState& state, Ve
   Mat3 R1 = state.rotation[0].toRotationMatrix();
   for (int e = 0; e + 1 < n; ++e) {
     const Mat3 R2 = state.rotation[e + 1].toRotationMatrix();
+    if (e == state.cut_element) {  // detached: pusher and coil no longer joined
+      R1 = R2;
+      continue;
+    }
     evaluateBeamElement(model.elements[e], state.position[e], R1, state.position[e + 1], R2,
                         K != nullptr, &ev);
     energy += ev.energy;

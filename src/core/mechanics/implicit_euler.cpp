@@ -1,5 +1,6 @@
 #include "endovascular_sim/mechanics/implicit_euler.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "endovascular_sim/mechanics/elasticity.h"
@@ -29,7 +30,8 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
                        FreeMotionTimes* times) {
   const auto t0 = Clock::now();
   const int n = model.num_nodes;
-  const int held = state.released ? -1 : lastHeldNode(model, state.inserted_length);
+  int held = state.released ? -1 : lastHeldNode(model, state.inserted_length);
+  if (state.cut_element >= 0) held = std::min(held, state.cut_element);  // never the coil's
   const int first_free = held + 1;
   ws->dq.setZero(6 * n);
 

@@ -4,6 +4,7 @@
 #include <urdf_model/model.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -198,6 +199,15 @@ DeviceSpec loadDeviceFile(const std::string& path) {
   spec.max_rotation_speed = d.positive("max_rotation_speed");
   spec.rayleigh_mass = d.nonNegative("rayleigh_mass", 0.0);
   spec.rayleigh_stiffness = d.nonNegative("rayleigh_stiffness", 0.0);
+  if (const char* cut = device->Attribute("detach_section")) {
+    spec.detach_section = cut;
+    if (spec.sections.size() < 2 || spec.sections.front().name == spec.detach_section ||
+        std::none_of(spec.sections.begin(), spec.sections.end(),
+                     [&](const DeviceSectionSpec& s) { return s.name == spec.detach_section; }))
+      d.fail("detach_section", "'" + spec.detach_section +
+                                   "' must name a link after the first (the part that detaches "
+                                   "from the pusher)");
+  }
   return spec;
 }
 

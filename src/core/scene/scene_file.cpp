@@ -228,8 +228,15 @@ ScriptedCommand readCommand(const YamlReader& r, const YAML::Node& n, int index,
     c.command.mode = DriveCommand::Mode::kVelocity;
   else if (mode == "position")
     c.command.mode = DriveCommand::Mode::kPosition;
+  else if (mode == "detach")
+    c.detach = true;
   else
-    r.fail(n["mode"], p + "mode", "must be 'velocity' or 'position'");
+    r.fail(n["mode"], p + "mode", "must be 'velocity', 'position' or 'detach'");
+  if (c.detach) {
+    if (scene.devices[c.device].device.detach_section.empty())
+      r.fail(n["mode"], p + "mode", "device '" + name + "' has no detach_section");
+    return c;
+  }
   c.command.insertion = r.number(n, "insertion", p, 0.0);
   c.command.rotation = r.number(n, "rotation", p, 0.0);
   const std::string why =

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <sstream>
 
 #include "endovascular_sim/contact/coaxial.h"
 
@@ -14,7 +15,14 @@ void applyScript(const SceneModel& model, SimData* data) {
   while (data->next_script_entry < model.script.size() &&
          model.script[data->next_script_entry].time <= data->time + 1e-12) {
     const ScriptedCommand& c = model.script[data->next_script_entry++];
-    data->commands[c.device] = c.command;
+    if (!c.detach) {
+      data->commands[c.device] = c.command;
+      continue;
+    }
+    const std::string why = detachDevice(model, data, model.devices[c.device].name);
+    if (!why.empty())
+      data->notices.push_back("script at t = " + std::to_string(c.time) +
+                              " s: detach refused: " + why);
   }
 }
 
@@ -204,6 +212,30 @@ int findDevice(const SceneModel& model, const std::string& name) {
   for (size_t i = 0; i < model.devices.size(); ++i)
     if (model.devices[i].name == name) return static_cast<int>(i);
   return -1;
+}
+
+std::string detachDevice(const SceneModel& model, SimData* data, const std::string& device) {
+  const int i = findDevice(model, device);
+  if (i < 0) return "unknown device '" + device + "'";
+  const DeviceModel& m = model.devices[i];
+  DeviceState& state = data->devices[i];
+  if (m.detach_element < 0) return "device '" + device + "' has no detach_section";
+  if (state.cut_element >= 0) return "device '" + device + "' is already detached";
+  // The junction element must be wholly past the access point and, inside
+  // an outer device (effect 'coaxial'), past that device's tip.
+  double needed = m.length - m.node_s[m.detach_element];
+  const int outer = model.outer_of.empty() ? -1 : model.outer_of[i];
+  if (outer >= 0) needed += data->devices[outer].inserted_length;
+  if (state.inserted_length < needed) {
+    std::ostringstream why;
+    why << "the junction of device '" << device << "' is still in "
+        << (outer >= 0 ? "the " + model.devices[outer].name : std::string("the introducer"))
+        << ": inserted " << state.inserted_length * 1e3 << " mm, detaching needs at least "
+        << needed * 1e3 << " mm";
+    return why.str();
+  }
+  state.cut_element = m.detach_element;
+  return "";
 }
 
 std::string setCommand(const SceneModel& model, SimData* data, const std::string& device,

@@ -1,0 +1,43 @@
+// Contacts as the node publishes them: every field of the core's contact,
+// the friction force and the lumen flag included.
+#include "endovascular_sim/ros/message_conversions.h"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+
+namespace evsim {
+namespace {
+
+TEST(ContactMessage, CarriesTheFrictionForceAndTheLumenFlag) {
+  FrameSnapshot frame;
+  frame.model = std::make_shared<const SceneModel>(loadScene("carotid_catheter"));
+  Contact wall{0, 7, Vec3(0.01, 0.02, 0.03), Vec3::UnitZ()};
+  wall.force = 0.5;
+  wall.gap = -2e-7;
+  wall.friction = Vec3(0.03, -0.04, 0.0);  // |f| = 0.05 N <= 0.2 * 0.5 N
+  Contact lumen{1, 3, Vec3(0.0, 0.0, 0.1), Vec3::UnitY()};
+  lumen.force = 0.2;
+  lumen.other_device = 0;
+  lumen.lumen = true;
+  frame.contacts = {wall, lumen};
+
+  const auto m = toContactArrayMsg(frame, std_msgs::Header());
+  ASSERT_EQ(m.contacts.size(), 2u);
+  EXPECT_EQ(m.contacts[0].device, "catheter");
+  EXPECT_EQ(m.contacts[0].other_device, "");
+  EXPECT_EQ(m.contacts[0].sample, 7u);
+  EXPECT_DOUBLE_EQ(m.contacts[0].force, 0.5);
+  EXPECT_DOUBLE_EQ(m.contacts[0].gap, -2e-7);
+  EXPECT_DOUBLE_EQ(m.contacts[0].friction.x, 0.03);
+  EXPECT_DOUBLE_EQ(m.contacts[0].friction.y, -0.04);
+  EXPECT_DOUBLE_EQ(m.contacts[0].friction.z, 0.0);
+  EXPECT_FALSE(m.contacts[0].lumen);
+  EXPECT_EQ(m.contacts[1].device, "guidewire");
+  EXPECT_EQ(m.contacts[1].other_device, "catheter");
+  EXPECT_TRUE(m.contacts[1].lumen);
+  EXPECT_DOUBLE_EQ(m.contacts[1].normal.y, 1.0);
+}
+
+}  // namespace
+}  // namespace evsim
