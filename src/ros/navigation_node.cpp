@@ -172,10 +172,18 @@ void NavigationNode::onProgressTimer(const ros::WallTimerEvent&) {
 }
 
 void NavigationNode::onCommand(const endovascular_sim::DeviceCommand& msg) {
+  if (msg.mode == endovascular_sim::DeviceCommand::DETACH) {
+    const std::string why = loop_.detach(msg.device);
+    if (why.empty())
+      ROS_INFO_STREAM("'" << msg.device << "' detached");
+    else
+      ROS_WARN_STREAM("detach refused for '" << msg.device << "': " << why);
+    return;
+  }
   if (msg.mode != endovascular_sim::DeviceCommand::VELOCITY &&
       msg.mode != endovascular_sim::DeviceCommand::POSITION) {
-    ROS_WARN_STREAM("command refused: mode " << int(msg.mode) << " is neither VELOCITY (0) nor "
-                                             << "POSITION (1)");
+    ROS_WARN_STREAM("command refused: mode " << int(msg.mode) << " is neither VELOCITY (0), "
+                                             << "POSITION (1) nor DETACH (2)");
     return;
   }
   DriveCommand cmd;

@@ -35,7 +35,8 @@ void addTriangle(visualization_msgs::Marker* m, const Vec3& a, const Vec3& b, co
   m->points.push_back(toPoint(c));
 }
 
-/// A closed-sided tube through the nodes, its rings in the nodal frames.
+/// A closed-sided tube through the nodes, its rings in the nodal frames;
+/// a detached device's cut element is left open (pusher and coil apart).
 visualization_msgs::Marker deviceTube(const DeviceModel& model, const DeviceState& state, int id,
                                       int sides, const std_msgs::Header& header) {
   static const std_msgs::ColorRGBA palette[] = {color(0.75f, 0.78f, 0.85f, 1.0f),
@@ -53,7 +54,7 @@ visualization_msgs::Marker deviceTube(const DeviceModel& model, const DeviceStat
       ring[k] = state.position[i] +
                 model.node_radius[i] * (std::cos(a) * R.col(1) + std::sin(a) * R.col(2));
     }
-    if (i > 0) {
+    if (i > 0 && static_cast<int>(i) - 1 != state.cut_element) {
       for (int k = 0; k < sides; ++k) {
         const int k1 = (k + 1) % sides;
         addTriangle(&m, previous[k], ring[k], ring[k1]);

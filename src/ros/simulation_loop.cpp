@@ -74,6 +74,14 @@ std::string SimulationLoop::setCommand(const std::string& device, const DriveCom
   return evsim::setCommand(*model_, &data_, device, command);
 }
 
+std::string SimulationLoop::detach(const std::string& device) {
+  const auto lock = lockForCaller();
+  if (!model_) return "no scene loaded";
+  const std::string why = detachDevice(*model_, &data_, device);
+  if (why.empty()) shareState();
+  return why;
+}
+
 std::string SimulationLoop::setContactOptions(const ContactOptions& options) {
   const std::string why = validateContactOptions(options);
   if (!why.empty()) return why;

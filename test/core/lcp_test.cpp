@@ -58,17 +58,21 @@ TEST(Lcp, SmallAnalyticProblem) {
   }
 }
 
-/// Solves with the status method and Lemke, checks each solved to a
+/// Solves with the status method (from the empty set and from every
+/// violated row, the paper's start) and Lemke, checks each solved to a
 /// residual of 1e-10, and returns their solutions.
 std::vector<VecX> solveWithOurs(const Lcp& l) {
   std::vector<VecX> out;
-  for (auto s : {LcpSolver::kStatusMethod, LcpSolver::kLemke}) {
+  for (int variant = 0; variant < 3; ++variant) {
     LcpOptions o;
-    o.solver = s;
+    o.solver = variant == 2 ? LcpSolver::kLemke : LcpSolver::kStatusMethod;
+    o.start_from_violated = variant == 1;
     VecX z;
     LcpStats st;
-    EXPECT_EQ(solveLcp(l.W, l.q, o, &z, &st), LcpStatus::kSolved) << lcpSolverName(s);
-    EXPECT_LE(st.residual, 1e-10) << lcpSolverName(s) << " c=" << l.q.size();
+    EXPECT_EQ(solveLcp(l.W, l.q, o, &z, &st), LcpStatus::kSolved) << variant;
+    // Recomputed here: the status method reports its own residual.
+    EXPECT_LE(lcpResidual(l.W, l.q, z), 1e-10) << variant << " c=" << l.q.size();
+    EXPECT_NEAR(st.residual, lcpResidual(l.W, l.q, z), 1e-14) << variant;
     out.push_back(z);
   }
   return out;
@@ -127,7 +131,7 @@ TEST(Lcp, StatusMethodNeverCyclesOnDegenerateProblems) {
   VecX z;
   LcpStats st;
   EXPECT_EQ(solveLcp(W, q, {LcpSolver::kStatusMethod}, &z, &st), LcpStatus::kSolved);
-  EXPECT_LE(st.residual, 1e-10);
+  EXPECT_LE(lcpResidual(W, q, z), 1e-10);
   EXPECT_NEAR(z.sum(), 1.0, 1e-9);  // the total force is determined
 }
 
@@ -152,11 +156,13 @@ TEST(Lcp, SceneLcpsAgreeWithSiconos) {
       ASSERT_EQ(test::siconosLcp(r.W, r.q, SICONOS_LCP_LEMKE, 1e-14, &ref), 0);
       // The Delassus operator of a contact set may be singular: compare the
       // gaps w, which are unique, and the total force along each normal set.
-      for (auto s : {LcpSolver::kStatusMethod, LcpSolver::kLemke}) {
+      for (int variant = 0; variant < 3; ++variant) {
+        LcpOptions o;
+        o.solver = variant == 2 ? LcpSolver::kLemke : LcpSolver::kStatusMethod;
+        o.start_from_violated = variant == 1;  // the paper's start
         VecX z;
-        LcpStats st;
-        ASSERT_EQ(solveLcp(r.W, r.q, {s}, &z, &st), LcpStatus::kSolved);
-        EXPECT_LE(st.residual, 1e-10) << name << " step " << k << " " << lcpSolverName(s);
+        ASSERT_EQ(solveLcp(r.W, r.q, o, &z), LcpStatus::kSolved);
+        EXPECT_LE(lcpResidual(r.W, r.q, z), 1e-10) << name << " step " << k << " " << variant;
         EXPECT_LT((r.W * z - r.W * ref).norm(), 1e-8 * std::max(r.q.norm(), 1e-12))
             << name << " step " << k;
       }

@@ -6,6 +6,8 @@
 
 #include <memory>
 
+#include "endovascular_sim/ros/scene_markers.h"
+
 namespace evsim {
 namespace {
 
@@ -37,6 +39,25 @@ TEST(ContactMessage, CarriesTheFrictionForceAndTheLumenFlag) {
   EXPECT_EQ(m.contacts[1].other_device, "catheter");
   EXPECT_TRUE(m.contacts[1].lumen);
   EXPECT_DOUBLE_EQ(m.contacts[1].normal.y, 1.0);
+}
+
+/// Triangles of the tube marker of device `i` (namespace "devices", id i).
+size_t tubeTriangles(const visualization_msgs::MarkerArray& a, int i) {
+  for (const auto& m : a.markers)
+    if (m.ns == "devices" && m.id == i) return m.points.size() / 3;
+  return 0;
+}
+
+TEST(SceneMarkers, ADetachedCoilsTubeIsOpenAtTheCut) {
+  FrameSnapshot frame;
+  frame.model = std::make_shared<const SceneModel>(loadScene("aneurysm_coiling"));
+  frame.devices = makeData(*frame.model).devices;
+  MarkerStyle style;
+  const size_t nodes = frame.devices[1].position.size();
+  const size_t per_element = 2 * static_cast<size_t>(style.tube_sides);
+  EXPECT_EQ(tubeTriangles(sceneMarkers(frame, style, {}), 1), (nodes - 1) * per_element);
+  frame.devices[1].cut_element = frame.model->devices[1].detach_element;
+  EXPECT_EQ(tubeTriangles(sceneMarkers(frame, style, {}), 1), (nodes - 2) * per_element);
 }
 
 }  // namespace

@@ -224,6 +224,9 @@ class NavigationNodeTest(unittest.TestCase):
                       'the unknown-device refusal')
         self.command(7, 0.01, 0.0)
         self.wait_for(lambda: self.warnings_containing('mode 7'), 'the unknown-mode refusal')
+        self.command(DeviceCommand.DETACH, 0.0, 0.0)  # the guidewire has no detach_section
+        self.wait_for(lambda: self.warnings_containing('no detach_section'),
+                      'the detach refusal')
         self.wait_sim(0.2)
         self.assertEqual(self.device().inserted_length, before)
         self.assertTrue(math.isfinite(self.device().tip.position.x))

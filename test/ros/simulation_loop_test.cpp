@@ -14,9 +14,9 @@
 namespace evsim {
 namespace {
 
-/// Polls until the condition holds (at most 30 s of wall time).
-bool eventually(const std::function<bool()>& condition) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+/// Polls until the condition holds (at most `limit_s` of wall time).
+bool eventually(const std::function<bool()>& condition, int limit_s = 30) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(limit_s);
   while (std::chrono::steady_clock::now() < end) {
     if (condition()) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -99,6 +99,29 @@ TEST_F(Loop, SolverOptionsAreValidatedBeforeTheyApply) {
   EXPECT_EQ(loop_.model()->contact.lcp.tolerance, 1e-8);
   EXPECT_EQ(loop_.model()->contact.lcp.solver, LcpSolver::kPgs);
   EXPECT_EQ(model_->contact.lcp.solver, LcpSolver::kStatusMethod);  // the old model is intact
+}
+
+TEST(LoopDetach, RefusedWhileInsideThenTheCoilIsCut) {
+  auto model = std::make_shared<const SceneModel>(loadScene("aneurysm_coiling"));
+  SimulationLoop loop(100.0);
+  loop.setScene(model, /*use_script=*/true);  // the coil advances 10 mm/s, stops at 1.6 s
+  loop.setPaused(true);
+  loop.start();
+  const FrameSnapshot before = loop.snapshot();
+  EXPECT_NE(loop.detach("finishing_coil").find("still in the microcatheter"), std::string::npos);
+  EXPECT_NE(loop.detach("microcatheter").find("no detach_section"), std::string::npos);
+  EXPECT_NE(loop.detach("nope").find("unknown device"), std::string::npos);
+  EXPECT_EQ(loop.snapshot().devices[1].cut_element, -1);
+  EXPECT_EQ(loop.snapshot().step, before.step);
+  loop.setPaused(false);
+  // The scene's own detach is scripted at 1.65 s: detach between 1.6 and it.
+  ASSERT_TRUE(eventually([&] { return loop.snapshot().time >= 1.6; }, 300));
+  loop.setPaused(true);
+  ASSERT_LT(loop.snapshot().time, 1.65);
+  EXPECT_EQ(loop.detach("finishing_coil"), "");
+  EXPECT_EQ(loop.snapshot().devices[1].cut_element, model->devices[1].detach_element);
+  EXPECT_NE(loop.detach("finishing_coil").find("already"), std::string::npos);
+  loop.stop();
 }
 
 }  // namespace

@@ -7,12 +7,15 @@
 //  - kStatusMethod (the paper's): solve W_aa z_a = -q_a on the active set,
 //    drop the contact with the most negative force, re-solve, until z >= 0;
 //    then activate the most violated inactive contact (w < -tolerance) and
-//    repeat. The active set's Cholesky factor is updated by one row or
-//    column per change (O(c^2)), never refactorised. Rank-deficient W
-//    (redundant contacts) is handled by a stated regularisation: W + eps I,
-//    eps = regularization * max(diag W), which makes it a P-matrix. Never
-//    cycles: after 3c pivots it switches from the most-negative rule to
-//    Murty's least-index rule, which terminates for P-matrices.
+//    repeat. By default the active set starts empty: a step's rows hold
+//    many redundant candidates (neighbouring sample points seeing one wall),
+//    of which few carry a force, so growing the set from the most violated
+//    row needs 5-25x fewer pivots on scene LCPs than the paper's start
+//    from every violated row (`start_from_violated`, kept as an option). The active set's Cholesky
+//    factor is updated by one row or column per change (O(c^2)), never refactorised. Rank-deficient
+//    W (redundant contacts) is handled by a stated regularisation: W + eps I, eps = regularization
+//    * max(diag W), which makes it a P-matrix. Never cycles: after 3c pivots it switches from the
+//    most-negative rule to Murty's least-index rule, which terminates for P-matrices.
 //  - kPgs: projected Gauss-Seidel (the method the paper improves on).
 //  - kLemke: Lemke's complementary pivoting with a covering vector of ones
 //    (exact up to round-off; the final basis is re-solved to polish z).
@@ -32,9 +35,10 @@ const char* lcpSolverName(LcpSolver solver);
 
 struct LcpOptions {
   LcpSolver solver{LcpSolver::kStatusMethod};
-  double tolerance{1e-12};       // on w >= -tolerance and PGS convergence [m]
-  int max_iterations{0};         // pivots or sweeps; 0: 20 c + 100 (pivoting), 1000 (PGS)
-  double regularization{1e-12};  // status method: eps / max(diag W) [-]
+  double tolerance{1e-12};          // on w >= -tolerance and PGS convergence [m]
+  int max_iterations{0};            // pivots or sweeps; 0: 20 c + 100 (pivoting), 1000 (PGS)
+  double regularization{1e-12};     // status method: eps / max(diag W) [-]
+  bool start_from_violated{false};  // status method: the paper's initial active set
 };
 
 enum class LcpStatus { kSolved, kIterationLimit, kFailed };

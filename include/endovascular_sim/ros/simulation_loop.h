@@ -36,6 +36,9 @@ class SimulationLoop {
   void setPaused(bool paused);
   /// Sets a device's command; returns why it was refused ("" when accepted).
   std::string setCommand(const std::string& device, const DriveCommand& command);
+  /// Detaches a device's section (a coil from its pusher) at the current
+  /// state; returns why it was refused ("" when done, state kept if not).
+  std::string detach(const std::string& device);
   /// Replaces the contact options (validated; returns why refused, "" if not).
   std::string setContactOptions(const ContactOptions& options);
 

@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -11,37 +12,41 @@ namespace evsim {
 namespace {
 
 /// Cholesky factor L (lower) of W_aa + eps I for an ordered active set,
-/// updated by appending or removing one index.
+/// updated by appending or removing one index. All storage is sized once
+/// (c x c), so pivots allocate nothing.
 class ActiveCholesky {
  public:
-  ActiveCholesky(const MatX& W, double eps) : W_(W), eps_(eps), L_(W.rows(), W.rows()) {}
+  ActiveCholesky(const MatX& W, double eps)
+      : W_(W), eps_(eps), L_(W.rows(), W.rows()), row_(W.rows()) {
+    set_.reserve(W.rows());
+  }
 
   int size() const { return static_cast<int>(set_.size()); }
   const std::vector<int>& set() const { return set_; }
 
-  /// Starts from the ordered set `init` with one blocked factorisation;
-  /// indices whose pivot is not positive are left out.
+  /// Starts from the ordered set `init` with one blocked factorisation in
+  /// place; if it is not positive definite, index by index, leaving out
+  /// those whose pivot is not positive (dependent rows).
   void reset(const std::vector<int>& init) {
     set_.clear();
-    if (init.empty()) return;
     const int k = static_cast<int>(init.size());
-    MatX Waa(k, k);
-    for (int i = 0; i < k; ++i)
-      for (int j = 0; j < k; ++j) Waa(i, j) = W_(init[i], init[j]);
-    Waa.diagonal().array() += eps_;
-    Eigen::LLT<MatX> llt(Waa);
+    if (k == 0) return;
+    for (int j = 0; j < k; ++j)
+      for (int i = j; i < k; ++i) L_(i, j) = W_(init[i], init[j]);
+    L_.diagonal().head(k).array() += eps_;
+    Eigen::Ref<MatX> block = L_.topLeftCorner(k, k);
+    const Eigen::LLT<Eigen::Ref<MatX>> llt(block);
     if (llt.info() == Eigen::Success) {
-      L_.topLeftCorner(k, k) = llt.matrixL();
       set_ = init;
       return;
     }
-    for (int i : init) add(i);  // fall back: one by one, skipping dependent rows
+    for (int i : init) add(i);
   }
 
   /// Appends index i; false when the pivot is not positive (then unchanged).
   bool add(int i) {
     const int k = size();
-    Eigen::VectorXd row(k);
+    auto row = row_.head(k);
     for (int j = 0; j < k; ++j) row(j) = W_(set_[j], i);
     if (k) L_.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(row);
     const double d2 = W_(i, i) + eps_ - row.squaredNorm();
@@ -72,50 +77,42 @@ class ActiveCholesky {
   }
 
   /// Solves (W_aa + eps I) x = b in place (b ordered like set()).
-  void solve(Eigen::VectorXd* b) const {
+  template <typename Vector>
+  void solve(Vector&& b) const {
     const int k = size();
-    L_.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(*b);
-    L_.topLeftCorner(k, k).transpose().triangularView<Eigen::Upper>().solveInPlace(*b);
+    L_.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(b);
+    L_.topLeftCorner(k, k).transpose().triangularView<Eigen::Upper>().solveInPlace(b);
   }
 
  private:
   const MatX& W_;
   double eps_;
   MatX L_;
+  VecX row_;
   std::vector<int> set_;
 };
 
-/// Iterative refinement of the final active set's forces on a fresh
-/// factorisation: removes the bias of the regularisation (eps z) and the
-/// round-off of many factor updates. Kept only if the forces stay
-/// non-negative and the residual drops.
-void polish(const MatX& W, const VecX& q, const std::vector<int>& set, double eps, VecX* z) {
-  const int k = static_cast<int>(set.size());
-  if (k == 0) return;
-  MatX Waa(k, k);
-  VecX qa(k), za(k);
-  for (int i = 0; i < k; ++i) {
-    qa(i) = q(set[i]);
-    za(i) = (*z)(set[i]);
-    for (int j = 0; j < k; ++j) Waa(i, j) = W(set[i], set[j]);
+/// w = W z + q for z zero outside the active set (z_a ordered like `set`):
+/// O(c k) column sweeps instead of a full product.
+void gapsOfActive(const MatX& W, const VecX& q, const std::vector<int>& set,
+                  const Eigen::Ref<const VecX>& za, VecX* w) {
+  *w = q;
+  for (size_t j = 0; j < set.size(); ++j) w->noalias() += W.col(set[j]) * za(j);
+}
+
+/// |z - max(0, z - w)| / |q| for z zero outside the active set.
+double residualOfActive(const VecX& q, const std::vector<int>& set,
+                        const Eigen::Ref<const VecX>& za, const VecX& w,
+                        const std::vector<char>& active) {
+  double r2 = 0.0;
+  for (size_t j = 0; j < set.size(); ++j) {
+    const double r = za(j) - std::max(0.0, za(j) - w(set[j]));
+    r2 += r * r;
   }
-  MatX reg = Waa;
-  reg.diagonal().array() += eps;
-  const Eigen::LLT<MatX> llt(reg);
-  if (llt.info() != Eigen::Success) return;
-  VecX best = *z;
-  double best_residual = lcpResidual(W, q, *z);
-  for (int it = 0; it < 3; ++it) {
-    za += llt.solve(-qa - Waa * za);
-    if (za.minCoeff() < 0.0) break;
-    VecX trial = VecX::Zero(q.size());
-    for (int i = 0; i < k; ++i) trial(set[i]) = za(i);
-    const double r = lcpResidual(W, q, trial);
-    if (!(r < best_residual)) break;
-    best = trial;
-    best_residual = r;
-  }
-  *z = best;
+  for (int i = 0; i < q.size(); ++i)
+    if (!active[i] && w(i) < 0.0) r2 += w(i) * w(i);
+  const double nq = q.norm();
+  return nq > 0.0 ? std::sqrt(r2) / nq : std::sqrt(r2);
 }
 
 LcpStatus statusMethod(const MatX& W, const VecX& q, const LcpOptions& o, VecX* z, LcpStats* st) {
@@ -124,24 +121,28 @@ LcpStatus statusMethod(const MatX& W, const VecX& q, const LcpOptions& o, VecX* 
   const int limit = o.max_iterations > 0 ? o.max_iterations : 20 * c + 100;
   ActiveCholesky chol(W, eps);
   std::vector<char> active(c, 0);
-  // Start from the contacts violated by the free motion, most violated first.
+  // Start from the empty set, or (the paper's start) from every contact
+  // violated by the free motion, most violated first.
   std::vector<int> order;
-  for (int i = 0; i < c; ++i)
-    if (q(i) < -o.tolerance) order.push_back(i);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return q(a) < q(b); });
+  if (o.start_from_violated) {
+    order.reserve(c);
+    for (int i = 0; i < c; ++i)
+      if (q(i) < -o.tolerance) order.push_back(i);
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return q(a) < q(b); });
+  }
   chol.reset(order);
   for (int i : chol.set()) active[i] = 1;
 
   z->setZero(c);
-  Eigen::VectorXd za;
+  VecX za_store(c), w(c), correction(c), trial_store(c), trial_w(c);
   for (int it = 0; it < limit; ++it) {
     st->iterations = it;
     const bool murty = it >= 3 * c;
     st->switched_rule |= murty;
     const int k = chol.size();
-    za.resize(k);
+    auto za = za_store.head(k);
     for (int j = 0; j < k; ++j) za(j) = -q(chol.set()[j]);
-    chol.solve(&za);
+    chol.solve(za);
     // I) Deactivation: the most negative force (or the lowest index, Murty).
     int drop = -1;
     for (int j = 0; j < k; ++j)
@@ -154,16 +155,35 @@ LcpStatus statusMethod(const MatX& W, const VecX& q, const LcpOptions& o, VecX* 
       ++st->deactivations;
       continue;
     }
-    z->setZero(c);
-    for (int j = 0; j < k; ++j) (*z)(chol.set()[j]) = za(j);
     // II) Activation: the most violated inactive contact.
-    const VecX w = W * *z + q;
+    gapsOfActive(W, q, chol.set(), za, &w);
     int add = -1;
     for (int i = 0; i < c; ++i)
       if (!active[i] && w(i) < -o.tolerance && (add < 0 || (murty ? i < add : w(i) < w(add))))
         add = i;
     if (add < 0) {
-      polish(W, q, chol.set(), eps, z);
+      // Iterative refinement on the same factor: removes the bias of the
+      // regularisation (eps z) and the round-off of many factor updates;
+      // a refined z is kept only while it stays non-negative and lowers
+      // the residual. Not tried once the residual is at round-off level.
+      constexpr double kRoundOff = 64 * std::numeric_limits<double>::epsilon();
+      double best = residualOfActive(q, chol.set(), za, w, active);
+      for (int pass = 0; pass < 3 && best > kRoundOff; ++pass) {
+        auto dz = correction.head(k);
+        for (int j = 0; j < k; ++j) dz(j) = -w(chol.set()[j]);
+        chol.solve(dz);
+        auto trial = trial_store.head(k);
+        trial = za + dz;
+        if (trial.minCoeff() < 0.0) break;
+        gapsOfActive(W, q, chol.set(), trial, &trial_w);
+        const double r = residualOfActive(q, chol.set(), trial, trial_w, active);
+        if (!(r < best)) break;
+        za = trial;
+        w.swap(trial_w);
+        best = r;
+      }
+      st->residual = best;
+      for (int j = 0; j < k; ++j) (*z)(chol.set()[j]) = za(j);
       return LcpStatus::kSolved;
     }
     if (!chol.add(add)) return LcpStatus::kFailed;
@@ -311,7 +331,9 @@ LcpStatus solveLcp(const MatX& W, const VecX& q, const LcpOptions& options, VecX
     z->setZero(q.size());
     status = LcpStatus::kFailed;
   }
-  st->residual = lcpResidual(W, q, *z);
+  // The status method reports the residual of its last refinement.
+  if (status != LcpStatus::kSolved || options.solver != LcpSolver::kStatusMethod)
+    st->residual = lcpResidual(W, q, *z);
   return status;
 }
 
