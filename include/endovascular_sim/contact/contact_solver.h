@@ -47,6 +47,7 @@ struct ContactOptions {
   RootOptions root;                    // first-root search
   bool device_contact{false};          // effect 'device_contact': pairs of device points
   bool friction{false};                // effect 'friction': Coulomb friction (NSGS)
+  bool wall_curvature{true};           // the wall's curvature in A (contact/wall_curvature.h)
   FrictionOptions friction_solver;     // its tolerance and sweep limit
 };
 
@@ -89,10 +90,11 @@ struct ContactStats {
   double delassus_ms{0.0};
   double lcp_ms{0.0};
   double correction_ms{0.0};
-  double pairs_ms{0.0};  // device-pair detection (part of detection_ms)
-  int pair_passes{0};    // device-pair detection passes (effect 'device_contact')
-  double lumen_ms{0.0};  // coaxial lumen detection (part of detection_ms)
-  int lumen_passes{0};   // coaxial lumen detection passes (effect 'coaxial')
+  double curvature_ms{0.0};  // the wall curvature term: A + C, its factor and step
+  double pairs_ms{0.0};      // device-pair detection (part of detection_ms)
+  int pair_passes{0};        // device-pair detection passes (effect 'device_contact')
+  double lumen_ms{0.0};      // coaxial lumen detection (part of detection_ms)
+  int lumen_passes{0};       // coaxial lumen detection passes (effect 'coaxial')
 };
 
 /// The LCP of the last activation loop (for dumps and offline comparisons).

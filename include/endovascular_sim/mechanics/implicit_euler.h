@@ -28,6 +28,8 @@ struct DeviceWorkspace {
   ChainCscPattern pattern;     // CSC pattern of A over the free nodes
   std::vector<double> values;  // CSC values
   SparseCholesky cholesky;     // factor of A over the free nodes
+  SparseCholesky curved;       // factor of A + C (the contact solver's wall curvature)
+  int curved_size{-1};         // dimension its symbolic analysis was done for
   double elastic_energy{0.0};  // [J] at the start of the step
 };
 

@@ -5,12 +5,14 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <unordered_map>
 
 #include "endovascular_sim/contact/coaxial.h"
 #include "endovascular_sim/contact/delassus.h"
+#include "endovascular_sim/contact/wall_curvature.h"
 #include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/mechanics/elasticity.h"
 
@@ -53,6 +55,8 @@ bool detached(const DeviceState& x, const SamplePoint& s) {
 double depthOf(const FieldSample& g) {
   if (g.value >= 0.0) return 0.0;
   const double n = g.gradient.norm();
+  // Beyond every vessel's support the field is flat (g = -T, no gradient):
+  // the point is outside all of them, as deep as it gets.
   return n > 0.0 ? -g.value / n : 0.0;
 }
 
@@ -308,6 +312,66 @@ std::string validateContactOptions(const ContactOptions& o) {
   return why.str();
 }
 
+/// Adds C (contact/wall_curvature.h) of the wall contacts with a force to
+/// each device's A, factorises A + C and sets (*dq_step)[d] to the QP step's
+/// free motion (A + C)^-1 (A dq_free + C dq_k) about the iterate dq; devices
+/// without such contacts keep A and dq_free.
+void addWallCurvature(const ContactProblem& pb, const std::vector<Contact>& contacts,
+                      const std::vector<DeviceState>& x, const std::vector<VecX>& dq,
+                      std::vector<VecX>* dq_step, std::vector<SparseCholesky*>* factor) {
+  const auto& devices = *pb.devices;
+  auto& ws = *pb.workspaces;
+  const auto& samples = *pb.samples;
+  const size_t nd = devices.size();
+  std::vector<ChainMatrix> C(nd);
+  for (const Contact& ct : contacts) {
+    if (ct.other_device >= 0 || !(ct.force > 0.0)) continue;
+    const int d = ct.device;
+    const SamplePoint& s = samples[d][ct.sample];
+    const int e = s.element;
+    if (e + 1 < ws[d].first_free_node) continue;  // both nodes held
+    std::array<Vec3, 2> t;
+    const Eigen::Matrix2d S =
+        wallCurvature(*pb.surface, ct.point, ct.normal, s.radius, pb.motion, &t);
+    if (S.isZero(0.0)) continue;
+    Eigen::Matrix<double, 2, 12> R;
+    R.row(0) = contactRow(devices[d], x[d], s, t[0]);
+    R.row(1) = contactRow(devices[d], x[d], s, t[1]);
+    const Eigen::Matrix<double, 12, 12> Ce = ct.force * R.transpose() * S * R;
+    if (C[d].numBlocks() == 0) {
+      C[d].resize(devices[d].num_nodes);
+      C[d].setZero();
+    }
+    C[d].diag[e] += Ce.topLeftCorner<6, 6>();
+    C[d].diag[e + 1] += Ce.bottomRightCorner<6, 6>();
+    C[d].upper[e] += Ce.topRightCorner<6, 6>();
+  }
+  for (size_t d = 0; d < nd; ++d) {
+    DeviceWorkspace& w = ws[d];
+    const int n = w.cholesky.size(), held = 6 * w.first_free_node;
+    if (C[d].numBlocks() == 0 || n == 0) continue;
+    ChainMatrix Ac = w.system;
+    for (int i = 0; i < Ac.numBlocks(); ++i) {
+      Ac.diag[i] += C[d].diag[i];
+      if (i + 1 < Ac.numBlocks()) Ac.upper[i] += C[d].upper[i];
+    }
+    if (w.curved_size != n) {
+      w.curved.analyze(w.pattern.size, w.pattern.col_ptr, w.pattern.row_idx);
+      w.curved_size = n;
+    }
+    std::vector<double> values;
+    w.pattern.gather(Ac, &values);
+    if (!w.curved.factorize(values)) continue;  // keep A (C is positive: should not happen)
+    VecX free = (*dq_step)[d], iterate = dq[d];
+    free.head(held).setZero();
+    iterate.head(held).setZero();
+    VecX rhs = (w.system.multiply(free) + C[d].multiply(iterate)).tail(n);
+    w.curved.solveInPlace(&rhs);
+    (*dq_step)[d].tail(n) = rhs;
+    (*factor)[d] = &w.curved;
+  }
+}
+
 bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
                      std::vector<Contact>* contacts, ContactStats* st) {
   const auto& devices = *pb.devices;
@@ -444,6 +508,14 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     const int m = dim * c;  // rows: per contact n (and t1, t2 with friction)
     if (o.friction) tangents.resize(c);
 
+    // --- The wall's curvature: A + C and the QP step's free motion ----------
+    t0 = Clock::now();
+    std::vector<SparseCholesky*> factor(nd);
+    std::vector<VecX> dq_step = dq_free;
+    for (size_t d = 0; d < nd; ++d) factor[d] = &ws[d].cholesky;
+    if (o.wall_curvature && pb.surface) addWallCurvature(pb, *contacts, x, dq, &dq_step, &factor);
+    st->curvature_ms += msSince(t0);
+
     // --- Delassus operator W = H A^-1 H^T, q = H x_f - delta ---------------
     t0 = Clock::now();
     MatX W = MatX::Zero(m, m);
@@ -464,7 +536,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       const Row12 h = sign * contactRow(devices[device], x[device], s, n);
       parts[device].push_back({row, s.element, h});
       const int at = 6 * s.element;
-      return h.dot(dq_free[device].segment<12>(at) - dq[device].segment<12>(at));
+      return h.dot(dq_step[device].segment<12>(at) - dq[device].segment<12>(at));
     };
     for (int i = 0; i < c; ++i) {
       Contact& ct = (*contacts)[i];
@@ -520,7 +592,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         }
       }
       MatX Wd;
-      delassusOperator(ws[d].cholesky, device_rows, &Y[d], &Wd);
+      delassusOperator(*factor[d], device_rows, &Y[d], &Wd);
       const auto& idx = of_device[d];
       for (size_t a = 0; a < idx.size(); ++a)
         for (size_t b = 0; b < idx.size(); ++b) W(idx[a], idx[b]) += Wd(a, b);
@@ -558,12 +630,12 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     // --- Correction x = x_f + A^-1 H^T lambda --------------------------------
     t0 = Clock::now();
     for (size_t d = 0; d < nd; ++d) {
-      dq[d] = dq_free[d];
+      dq[d] = dq_step[d];
       const auto& idx = of_device[d];
       if (idx.empty()) continue;
       VecX l(idx.size());
       for (size_t j = 0; j < idx.size(); ++j) l(j) = lambda(idx[j]);
-      const int n = ws[d].cholesky.size();
+      const int n = factor[d]->size();
       dq[d].tail(n) += Y[d] * l;
     }
     x = moved(start, dq);

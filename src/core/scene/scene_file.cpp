@@ -160,6 +160,14 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   o.penetration_tolerance =
       r.number(n, "penetration_tolerance", "contact.", o.penetration_tolerance);
   o.root.tolerance = r.number(n, "root_tolerance", "contact.", o.root.tolerance);
+  auto flag = [&](const char* key, bool fallback) {
+    if (!n[key]) return fallback;
+    const std::string v = r.text(n[key], std::string("contact.") + key);
+    if (v != "true" && v != "false")
+      r.fail(n[key], std::string("contact.") + key, "must be true or false");
+    return v == "true";
+  };
+  o.wall_curvature = flag("wall_curvature", o.wall_curvature);
   if (n["friction_solver"]) {
     try {
       o.friction_solver.solver =
