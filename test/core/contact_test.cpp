@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "endovascular_sim/contact/contact_solver.h"
+#include "endovascular_sim/geometry/vessel_field.h"
 #include "endovascular_sim/mechanics/device_model.h"
 #include "endovascular_sim/mechanics/so3.h"
 #include "endovascular_sim/sim/simulation.h"
@@ -121,6 +122,42 @@ TEST(ContactOptions, OutOfRangeAreRefused) {
   o = ContactOptions{};
   o.max_subdivisions = 40;
   EXPECT_NE(validateContactOptions(o).find("max_subdivisions"), std::string::npos);
+}
+
+/// A wire whose free part lies beyond every vessel's support, where the
+/// field is flat (g = -T, no gradient, no projection): it is beyond the
+/// wall, and the step says so instead of accepting it (it used to count as
+/// 0 m deep).
+TEST(Contact, APointBeyondEveryVesselsSupportIsBeyondTheWall) {
+  SceneModel m;
+  m.time_step = 1e-3;
+  Centerline c;  // a 20 mm vessel of radius 2 mm along x
+  for (int i = 0; i <= 4; ++i) {
+    c.position.push_back(Vec3(0.005 * i, 0.0, 0.0));
+    c.radius.push_back(2e-3);
+    c.parent.push_back(i - 1);
+    c.type.push_back(0);
+  }
+  auto vessels = std::make_shared<const VesselField>(
+      c, std::vector<AneurysmSpec>{}, std::vector<MotionRegion>{}, VesselFieldOptions{});
+  m.vessels = vessels;
+  m.surface = vessels;
+  DeviceSpec spec = straightDeviceSpec("wire", test::wireSection(60e9, 2e-4), 0.05, 50);
+  m.devices.push_back(buildDeviceModel(spec));
+  Introducer intro;
+  intro.access_point = Vec3(0.01, 0.05, 0.0);  // 50 mm beside the vessel
+  m.introducers.push_back(intro);
+  m.initial_inserted_length.push_back(0.02);
+  m.initial_rotation.push_back(0.0);
+  m.samples.push_back(sampleDevice(m.devices[0], m.contact.contact_spacing));
+  const Vec3 far = Vec3(0.02, 0.05, 0.0);
+  ASSERT_LT(vessels->evaluate(far, 2e-4).value, 0.0);
+  ASSERT_EQ(vessels->evaluate(far, 2e-4).gradient.norm(), 0.0);  // flat: beyond the support
+  SimData d = makeData(m);
+  const Vec3 tip = d.devices[0].position.back();
+  EXPECT_EQ(step(m, &d), StepStatus::kContactsUnsolved);
+  EXPECT_NE(d.last_error.find("beyond the wall"), std::string::npos) << d.last_error;
+  EXPECT_EQ(d.devices[0].position.back(), tip);  // the state is kept
 }
 
 }  // namespace

@@ -122,6 +122,14 @@ TEST(Lcp, PgsConvergesToTheSameSolutionSlowly) {
   EXPECT_GT(err_few, 100 * (z - exact).norm());  // accuracy costs iterations
 }
 
+TEST(Lcp, AnEmptyProblemIsSolvedByEverySolver) {
+  for (auto s : {LcpSolver::kStatusMethod, LcpSolver::kPgs, LcpSolver::kLemke}) {
+    VecX z = VecX::Ones(3);
+    EXPECT_EQ(solveLcp(MatX(0, 0), VecX(0), {s}, &z), LcpStatus::kSolved) << lcpSolverName(s);
+    EXPECT_EQ(z.size(), 0) << lcpSolverName(s);
+  }
+}
+
 TEST(Lcp, StatusMethodNeverCyclesOnDegenerateProblems) {
   // Many identical contacts (the same wall seen by several points): W has
   // rank 1 and ties everywhere.

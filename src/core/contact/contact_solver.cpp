@@ -57,7 +57,9 @@ double depthOf(const FieldSample& g) {
   const double n = g.gradient.norm();
   // Beyond every vessel's support the field is flat (g = -T, no gradient):
   // the point is outside all of them, as deep as it gets.
-  return n > 0.0 ? -g.value / n : 0.0;
+  // Beyond every vessel's support the field is flat (g = -T, no gradient):
+  // the point lies outside all of them, as deep as it gets.
+  return n > 0.0 ? -g.value / n : std::numeric_limits<double>::infinity();
 }
 
 /// A sample point in a configuration (held ones are kinematic obstacles).
@@ -389,6 +391,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   const std::vector<DeviceState> xf = moved(start, dq_free);
   std::vector<std::vector<int>> contact_of(nd);  // sample -> contact index or -1
   for (size_t d = 0; d < nd; ++d) contact_of[d].assign(samples[d].size(), -1);
+  bool stranded = false;  // a point beyond the wall where no plane can be found
   for (size_t d = 0; d < nd && pb.surface; ++d) {
     // Per element, the deepest crossing at x_f only: the activation loop adds
     // any other point of the element that stays beyond the wall.
@@ -416,7 +419,10 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       if (!hit.hit) continue;
       if (hit.started_outside) {  // already beyond the wall (moving wall, tolerance)
         hit = projectToSurface(*pb.surface, p1, s.radius, pb.motion, 0.01, o.root);
-        if (!hit.hit) continue;
+        if (!hit.hit) {  // beyond every vessel's support: no plane, never solved
+          stranded = true;
+          continue;
+        }
       }
       const double depth = -hit.normal.dot(p1 - hit.point);
       if (depth > best_depth) {
@@ -497,7 +503,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   }
   st->detection_ms += msSince(t0);
 
-  bool solved = contacts->empty();
+  bool solved = contacts->empty() && !stranded;
   const int dim = o.friction ? 3 : 1;
   std::vector<std::array<Vec3, 2>> tangents;  // per contact with friction: t1, t2
   std::vector<DeviceState> x = xf;
@@ -661,6 +667,13 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         if (depthOf(g) <= o.penetration_tolerance) continue;
         solved = false;
         SurfacePoint plane = projectToSurface(*pb.surface, p, s.radius, pb.motion, 0.01, o.root);
+        if (!plane.hit) {
+          // No projection (beyond every vessel's support the field is flat):
+          // the wall where the point's path from x_t crossed it.
+          const SurfacePoint hit = firstRoot(*pb.surface, samplePosition(devices[d], start[d], s),
+                                             p, s.radius, pb.motion, o.root);
+          if (hit.hit && !hit.started_outside) plane = hit;
+        }
         const int existing = contact_of[d][k];
         if (existing >= 0 && !updated[existing]) {
           // The paper's update: the tangent plane where x projects.

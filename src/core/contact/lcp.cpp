@@ -315,6 +315,10 @@ LcpStatus solveLcp(const MatX& W, const VecX& q, const LcpOptions& options, VecX
   LcpStats local;
   LcpStats* st = stats ? stats : &local;
   *st = LcpStats{};
+  if (q.size() == 0) {  // nothing to solve (W.diagonal() of an empty W has no max)
+    z->resize(0);
+    return LcpStatus::kSolved;
+  }
   LcpStatus status;
   switch (options.solver) {
     case LcpSolver::kStatusMethod:
