@@ -670,9 +670,13 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         if (!plane.hit) {
           // No projection (beyond every vessel's support the field is flat):
           // the wall where the point's path from x_t crossed it.
-          const SurfacePoint hit = firstRoot(*pb.surface, samplePosition(devices[d], start[d], s),
-                                             p, s.radius, pb.motion, o.root);
+          const Vec3 p0 = samplePosition(devices[d], start[d], s);
+          const SurfacePoint hit = firstRoot(*pb.surface, p0, p, s.radius, pb.motion, o.root);
           if (hit.hit && !hit.started_outside) plane = hit;
+          // At x_t already within the tolerance band beyond the wall: the
+          // plane where it was.
+          if (hit.started_outside)
+            plane = projectToSurface(*pb.surface, p0, s.radius, pb.motion, 0.01, o.root);
         }
         const int existing = contact_of[d][k];
         if (existing >= 0 && !updated[existing]) {
