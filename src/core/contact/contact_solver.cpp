@@ -56,8 +56,6 @@ double depthOf(const FieldSample& g) {
   if (g.value >= 0.0) return 0.0;
   const double n = g.gradient.norm();
   // Beyond every vessel's support the field is flat (g = -T, no gradient):
-  // the point is outside all of them, as deep as it gets.
-  // Beyond every vessel's support the field is flat (g = -T, no gradient):
   // the point lies outside all of them, as deep as it gets.
   return n > 0.0 ? -g.value / n : std::numeric_limits<double>::infinity();
 }
