@@ -99,20 +99,40 @@ void BM_DelassusSeparateSolves(benchmark::State& st) {
   st.counters["c"] = c;
 }
 
-void runOurs(benchmark::State& st, LcpSolver solver, int max_iterations) {
-  ContactSpace& s = space(static_cast<int>(st.range(0)));
-  LcpOptions o;
-  o.solver = solver;
-  o.max_iterations = max_iterations;
+/// Times one of our solvers on (W, q). Counters: c, forces, pivots or
+/// sweeps, and the residual recomputed from z.
+void timeOurs(benchmark::State& st, const MatX& W, const VecX& q, const LcpOptions& o) {
   VecX z;
   LcpStats ls;
   for (auto _ : st) {
-    solveLcp(s.W, s.q, o, &z, &ls);
+    solveLcp(W, q, o, &z, &ls);
     benchmark::DoNotOptimize(z.data());
   }
-  st.counters["c"] = static_cast<double>(st.range(0));
-  st.counters["residual"] = ls.residual;
+  st.counters["c"] = static_cast<double>(q.size());
+  st.counters["active"] = static_cast<double>((z.array() > 0.0).count());
   st.counters["iterations"] = ls.iterations;
+  st.counters["residual"] = lcpResidual(W, q, z);
+}
+
+/// Times a Siconos LCP solver on (W, q) at 1e-12.
+void timeSiconos(benchmark::State& st, const MatX& W, const VecX& q, int solver) {
+  VecX z;
+  int info = 0;
+  for (auto _ : st) {
+    info = test::siconosLcp(W, q, solver, 1e-12, &z, 100000);
+    benchmark::DoNotOptimize(z.data());
+  }
+  st.counters["c"] = static_cast<double>(q.size());
+  st.counters["residual"] = lcpResidual(W, q, z);
+  st.counters["info"] = info;
+}
+
+void runOurs(benchmark::State& st, LcpSolver solver, int max_iterations) {
+  const ContactSpace& s = space(static_cast<int>(st.range(0)));
+  LcpOptions o;
+  o.solver = solver;
+  o.max_iterations = max_iterations;
+  timeOurs(st, s.W, s.q, o);
 }
 
 void BM_StatusMethod(benchmark::State& st) { runOurs(st, LcpSolver::kStatusMethod, 0); }
@@ -121,16 +141,8 @@ void BM_Pgs100(benchmark::State& st) { runOurs(st, LcpSolver::kPgs, 100); }
 void BM_Pgs1000(benchmark::State& st) { runOurs(st, LcpSolver::kPgs, 1000); }
 
 void runSiconos(benchmark::State& st, int solver) {
-  ContactSpace& s = space(static_cast<int>(st.range(0)));
-  VecX z;
-  int info = 0;
-  for (auto _ : st) {
-    info = test::siconosLcp(s.W, s.q, solver, 1e-12, &z, 100000);
-    benchmark::DoNotOptimize(z.data());
-  }
-  st.counters["c"] = static_cast<double>(st.range(0));
-  st.counters["residual"] = lcpResidual(s.W, s.q, z);
-  st.counters["info"] = info;
+  const ContactSpace& s = space(static_cast<int>(st.range(0)));
+  timeSiconos(st, s.W, s.q, solver);
 }
 
 void BM_SiconosLemke(benchmark::State& st) { runSiconos(st, SICONOS_LCP_LEMKE); }
@@ -166,29 +178,12 @@ void runOursOnScene(benchmark::State& st, LcpSolver solver, bool start_from_viol
   LcpOptions o;
   o.solver = solver;
   o.start_from_violated = start_from_violated;
-  VecX z;
-  LcpStats ls;
-  for (auto _ : st) {
-    solveLcp(r.W, r.q, o, &z, &ls);
-    benchmark::DoNotOptimize(z.data());
-  }
-  st.counters["c"] = static_cast<double>(r.q.size());
-  st.counters["active"] = static_cast<double>((z.array() > 0.0).count());
-  st.counters["iterations"] = ls.iterations;
-  st.counters["residual"] = lcpResidual(r.W, r.q, z);
+  timeOurs(st, r.W, r.q, o);
 }
 
 void runSiconosOnScene(benchmark::State& st, int solver) {
   const LcpRecord& r = sceneLcp(static_cast<int>(st.range(0)));
-  VecX z;
-  int info = 0;
-  for (auto _ : st) {
-    info = test::siconosLcp(r.W, r.q, solver, 1e-12, &z, 100000);
-    benchmark::DoNotOptimize(z.data());
-  }
-  st.counters["c"] = static_cast<double>(r.q.size());
-  st.counters["residual"] = lcpResidual(r.W, r.q, z);
-  st.counters["info"] = info;
+  timeSiconos(st, r.W, r.q, solver);
 }
 
 void BM_SceneStatusMethod(benchmark::State& st) { runOursOnScene(st, LcpSolver::kStatusMethod); }

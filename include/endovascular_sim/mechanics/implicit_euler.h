@@ -19,18 +19,20 @@ namespace evsim {
 
 /// Per-device workspace of a step (Data).
 struct DeviceWorkspace {
-  ChainMatrix stiffness;       // K over all nodes
-  ChainMatrix system;          // A over all nodes
-  VecX elastic_gradient;       // f_int (6 * num_nodes)
-  VecX rhs;                    // right-hand side over the free nodes
-  VecX dq;                     // free-motion increment of all nodes (6 * num_nodes)
-  int first_free_node{-1};     // nodes [0, first_free_node) are held
-  ChainCscPattern pattern;     // CSC pattern of A over the free nodes
-  std::vector<double> values;  // CSC values
-  SparseCholesky cholesky;     // factor of A over the free nodes
-  SparseCholesky curved;       // factor of A + C (the contact solver's wall curvature)
-  int curved_size{-1};         // dimension its symbolic analysis was done for
-  double elastic_energy{0.0};  // [J] at the start of the step
+  ChainMatrix stiffness;              // K over all nodes
+  ChainMatrix system;                 // A over all nodes
+  VecX elastic_gradient;              // f_int (6 * num_nodes)
+  VecX rhs;                           // right-hand side over the free nodes
+  VecX dq;                            // free-motion increment of all nodes (6 * num_nodes)
+  int first_free_node{-1};            // nodes [0, first_free_node) are held
+  ChainCscPattern pattern;            // CSC pattern of A over the free nodes
+  std::vector<double> values;         // CSC values
+  SparseCholesky cholesky;            // factor of A over the free nodes
+  ChainMatrix curved_system;          // A + C (the contact solver's wall curvature)
+  std::vector<double> curved_values;  // its CSC values
+  SparseCholesky curved;              // its factor
+  int curved_size{-1};                // dimension its symbolic analysis was done for
+  double elastic_energy{0.0};         // [J] at the start of the step
 };
 
 /// Wall time of each stage [ms].

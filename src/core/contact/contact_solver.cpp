@@ -350,7 +350,8 @@ void addWallCurvature(const ContactProblem& pb, const std::vector<Contact>& cont
     DeviceWorkspace& w = ws[d];
     const int n = w.cholesky.size(), held = 6 * w.first_free_node;
     if (C[d].numBlocks() == 0 || n == 0) continue;
-    ChainMatrix Ac = w.system;
+    ChainMatrix& Ac = w.curved_system;  // storage kept across loops and steps
+    Ac = w.system;
     for (int i = 0; i < Ac.numBlocks(); ++i) {
       Ac.diag[i] += C[d].diag[i];
       if (i + 1 < Ac.numBlocks()) Ac.upper[i] += C[d].upper[i];
@@ -359,9 +360,9 @@ void addWallCurvature(const ContactProblem& pb, const std::vector<Contact>& cont
       w.curved.analyze(w.pattern.size, w.pattern.col_ptr, w.pattern.row_idx);
       w.curved_size = n;
     }
-    std::vector<double> values;
-    w.pattern.gather(Ac, &values);
-    if (!w.curved.factorize(values)) continue;  // keep A (C is positive: should not happen)
+    w.pattern.gather(Ac, &w.curved_values);
+    if (!w.curved.factorize(w.curved_values))
+      continue;  // keep A (C is positive: should not happen)
     VecX free = (*dq_step)[d], iterate = dq[d];
     free.head(held).setZero();
     iterate.head(held).setZero();
