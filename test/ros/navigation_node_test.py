@@ -90,6 +90,9 @@ class NavigationNodeTest(unittest.TestCase):
         self.assertTrue(self.reset().success)
         self.wait_for(lambda: self.stats is not None and self.stats.scene == 'free_insertion'
                       and self.stats.sim_time < 0.5, 'fresh free_insertion frames')
+        devices = [d['name'] for d in self.scene['devices']]
+        self.wait_for(lambda: self.states is not None and self.device_names() == devices,
+                      'free_insertion device states')  # a separate topic from the stats
         with self.lock:
             self.log.clear()  # the class's list, which the subscriber fills
 
@@ -106,6 +109,10 @@ class NavigationNodeTest(unittest.TestCase):
     def device(self, name='guidewire'):
         with self.lock:
             return next(d for d in self.states.devices if d.name == name)
+
+    def device_names(self):
+        with self.lock:
+            return [d.name for d in self.states.devices]
 
     def device_and_time(self, name='guidewire'):
         """A device's status and the simulated time of the same message (the
@@ -246,9 +253,8 @@ class NavigationNodeTest(unittest.TestCase):
         self.assertTrue(res.success, res.message)
         device = load_yaml('scenes', 'aneurysm.yaml')['devices'][0]
         self.wait_for(lambda: self.stats.scene == 'aneurysm', 'aneurysm stats')
-        with self.lock:
-            names = [d.name for d in self.states.devices]
-        self.assertEqual(names, ['coil'])
+        # stats and device states are separate topics: either may arrive first
+        self.wait_for(lambda: self.device_names() == ['coil'], 'the coil in the device states')
         self.assertAlmostEqual(self.device('coil').inserted_length,
                                device.get('inserted_length', 0.0), delta=0.002)
         from nav_msgs.msg import Path
