@@ -42,6 +42,14 @@ SurfacePoint firstRoot(const ImplicitSurface& field, const Vec3& p0, const Vec3&
                        double device_radius, const MotionSnapshot& motion = {},
                        const RootOptions& options = {});
 
+/// firstRoot with the field at p0 already evaluated (at = evaluate(p0)): a
+/// point's later motions from the same start (the activation loop's
+/// re-detection along x_t -> x) cost no evaluation where the Hessian bound
+/// certifies the whole path inside.
+SurfacePoint firstRootFrom(const ImplicitSurface& field, const Vec3& p0, const FieldSample& at,
+                           const Vec3& p1, double device_radius, const MotionSnapshot& motion = {},
+                           const RootOptions& options = {});
+
 /// Surface point reached from x along the gradient direction at x, and its
 /// normal. hit is false when no surface lies within max_distance [m].
 SurfacePoint projectToSurface(const ImplicitSurface& field, const Vec3& x, double device_radius,

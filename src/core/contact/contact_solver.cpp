@@ -51,6 +51,22 @@ bool detached(const DeviceState& x, const SamplePoint& s) {
   return x.cut_element >= 0 && s.element > x.cut_element;
 }
 
+/// Where a point's straight path p0 -> p, from inside to inside, left its
+/// lumen through a wall into another lumen (hit false when it did not). The
+/// path counts as tunnelling only when the wall where it re-enters faces the
+/// other way (opposite normals): a chord that grazes a convex wall (a point
+/// sliding around the inner side of a bend) leaves and re-enters the same
+/// wall, with nearly equal normals, and is not a tunnel.
+SurfacePoint tunnelExit(const ImplicitSurface& surface, const Vec3& p0, const FieldSample& g0,
+                        const Vec3& p, const FieldSample& g, double radius,
+                        const MotionSnapshot& motion, const RootOptions& root) {
+  const SurfacePoint exit = firstRootFrom(surface, p0, g0, p, radius, motion, root);
+  if (!exit.hit || exit.started_outside) return {};
+  const SurfacePoint entry = firstRootFrom(surface, p, g, p0, radius, motion, root);
+  if (!entry.hit || entry.started_outside || exit.normal.dot(entry.normal) >= 0.0) return {};
+  return exit;
+}
+
 /// Depth beyond the surface [m] (0 inside), from g / |grad g|.
 double depthOf(const FieldSample& g) {
   if (g.value >= 0.0) return 0.0;
@@ -390,6 +406,13 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   const std::vector<DeviceState> xf = moved(start, dq_free);
   std::vector<std::vector<int>> contact_of(nd);  // sample -> contact index or -1
   for (size_t d = 0; d < nd; ++d) contact_of[d].assign(samples[d].size(), -1);
+  // The field at each sample's x_t and at the loop's x: the converged answer's
+  // paths are checked for tunnels.
+  std::vector<std::vector<FieldSample>> start_field(nd), end_field(nd);
+  for (size_t d = 0; d < nd && pb.surface; ++d) {
+    start_field[d].resize(samples[d].size());
+    end_field[d].resize(samples[d].size());
+  }
   bool stranded = false;  // a point beyond the wall where no plane can be found
   for (size_t d = 0; d < nd && pb.surface; ++d) {
     // Per element, the deepest crossing at x_f only: the activation loop adds
@@ -414,7 +437,9 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       if (!takesPart(pb, d, s)) continue;
       const Vec3 p0 = samplePosition(devices[d], start[d], s);
       const Vec3 p1 = samplePosition(devices[d], xf[d], s);
-      SurfacePoint hit = firstRoot(*pb.surface, p0, p1, s.radius, pb.motion, o.root);
+      start_field[d][k] = pb.surface->evaluate(p0, s.radius, pb.motion);
+      SurfacePoint hit =
+          firstRootFrom(*pb.surface, p0, start_field[d][k], p1, s.radius, pb.motion, o.root);
       if (!hit.hit) continue;
       if (hit.started_outside) {  // already beyond the wall (moving wall, tolerance)
         hit = projectToSurface(*pb.surface, p1, s.radius, pb.motion, 0.01, o.root);
@@ -662,14 +687,15 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         if (!takesPart(pb, d, s)) continue;
         const Vec3 p = samplePosition(devices[d], x[d], s);
         const FieldSample g = pb.surface->evaluate(p, s.radius, pb.motion);
+        end_field[d][k] = g;
         deepest = std::max(deepest, depthOf(g));
         if (depthOf(g) <= o.penetration_tolerance) continue;
         solved = false;
+        const Vec3 p0 = samplePosition(devices[d], start[d], s);
         SurfacePoint plane = projectToSurface(*pb.surface, p, s.radius, pb.motion, 0.01, o.root);
         if (!plane.hit) {
           // No projection (beyond every vessel's support the field is flat):
           // the wall where the point's path from x_t crossed it.
-          const Vec3 p0 = samplePosition(devices[d], start[d], s);
           const SurfacePoint hit = firstRoot(*pb.surface, p0, p, s.radius, pb.motion, o.root);
           if (hit.hit && !hit.started_outside) plane = hit;
           // At x_t already within the tolerance band beyond the wall: the
@@ -688,7 +714,6 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
           continue;
         }
         if (existing < 0) {
-          const Vec3 p0 = samplePosition(devices[d], start[d], s);
           SurfacePoint hit = firstRoot(*pb.surface, p0, p, s.radius, pb.motion, o.root);
           if (hit.hit && !hit.started_outside) plane = hit;
         }
@@ -749,6 +774,28 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         }
       }
       st->lumen_ms += msSince(tl);
+    }
+    // Converged: but did a point's path from x_t pass through a wall into
+    // another lumen? Only the answer is checked, not every iterate (the
+    // first loops' iterates may swing millimetres through the neck of an
+    // aneurysm; later loops bring them back). Such a point gets the wall
+    // where it left as a new plane, and the loop goes on.
+    const bool converged = solved;
+    for (size_t d = 0; d < nd && converged && pb.surface; ++d) {
+      for (size_t k = 0; k < samples[d].size(); ++k) {
+        const SamplePoint& s = samples[d][k];
+        if (!takesPart(pb, d, s)) continue;
+        const SurfacePoint exit = tunnelExit(*pb.surface, samplePosition(devices[d], start[d], s),
+                                             start_field[d][k], samplePosition(devices[d], x[d], s),
+                                             end_field[d][k], s.radius, pb.motion, o.root);
+        if (!exit.hit) continue;
+        ++st->tunnelled;
+        solved = false;
+        contact_of[d][k] = static_cast<int>(contacts->size());
+        contacts->push_back(
+            {static_cast<int>(d), static_cast<int>(k), exit.point, exit.normal, 0, 0});
+        updated.push_back(0);
+      }
     }
     st->detection_ms += msSince(t0);
   }

@@ -82,7 +82,13 @@ SurfacePoint firstSignChange(const ImplicitSurface& field, const Vec3& p0, const
 SurfacePoint firstRoot(const ImplicitSurface& field, const Vec3& p0, const Vec3& p1,
                        double device_radius, const MotionSnapshot& motion,
                        const RootOptions& options) {
-  const FieldSample at = field.evaluate(p0, device_radius, motion);
+  return firstRootFrom(field, p0, field.evaluate(p0, device_radius, motion), p1, device_radius,
+                       motion, options);
+}
+
+SurfacePoint firstRootFrom(const ImplicitSurface& field, const Vec3& p0, const FieldSample& at,
+                           const Vec3& p1, double device_radius, const MotionSnapshot& motion,
+                           const RootOptions& options) {
   if (at.value < 0.0) {
     SurfacePoint out = surfaceAt(field, p0, device_radius, motion);
     out.started_outside = true;

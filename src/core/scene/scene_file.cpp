@@ -52,6 +52,13 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
     const Vec3 up = n["up"] ? r.vector3(n["up"], p + "up") : Vec3(0.0, 0.0, 1.0);
     d.introducer.frame = introducerFrame(dir, up);
   }
+  if (n["max_element_length"]) {  // a finer discretisation than the device file's
+    const double h = r.number(n["max_element_length"], p + "max_element_length");
+    if (!(h > 0.0))
+      r.fail(n["max_element_length"], p + "max_element_length", "must be positive [m]");
+    for (DeviceSectionSpec& sec : d.device.sections)
+      sec.elements = std::max(sec.elements, static_cast<int>(std::ceil(sec.length / h - 1e-9)));
+  }
   const DeviceModel model = buildDeviceModel(d.device);
   d.inserted_length = r.number(n, "inserted_length", p, 0.0);
   if (d.inserted_length < 0.0 || d.inserted_length > model.length)
