@@ -85,6 +85,7 @@ struct StepStats {
   double lcp_residual{0.0};       // worst natural-map residual
   int subdivisions{0};            // sub-steps added by halving
   double max_penetration_m{0.0};  // [m] deepest point beyond the wall at the end
+  int tunnels{0};  // points whose path from x_t crossed a wall into another lumen, re-solved
 };
 
 enum class StepStatus { kOk, kSolverFailure, kContactsUnsolved };

@@ -50,6 +50,7 @@ void addResults(const ContactStats& c, StepStats* s) {
   s->lcp_iterations += c.lcp_iterations;
   s->lcp_residual = std::max(s->lcp_residual, c.lcp_residual);
   s->max_penetration_m = c.max_penetration_m;
+  s->tunnels += c.tunnelled;
 }
 
 /// One (sub-)step of length dt from data->devices; on success the new states.
