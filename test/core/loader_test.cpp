@@ -217,6 +217,22 @@ TEST_F(Loader, InsertedLengthBeyondTheDeviceIsRefused) {
               "devices[0].inserted_length", "must lie in");
 }
 
+TEST_F(Loader, MaxElementLengthRefinesOnlyCoarserSections) {
+  write("wire.urdf", kDevice);
+  std::string scene = kScene;
+  const std::string at = "inserted_length: 0.05";
+  scene.replace(scene.find(at), at.size(), at + "\n    max_element_length: 0.004");
+  const SceneSpec s = loadSceneFile(write("scene.yaml", scene));
+  EXPECT_EQ(s.devices[0].device.sections[0].elements, 75);  // 0.3 m: 30 -> ceil(0.3 / 0.004)
+  EXPECT_EQ(s.devices[0].device.sections[1].elements, 10);  // 0.02 m: already 2 mm elements
+}
+
+TEST_F(Loader, NonPositiveMaxElementLengthIsNamed) {
+  expectNames(
+      sceneError("inserted_length: 0.05", "inserted_length: 0.05\n    max_element_length: 0"),
+      "scene.yaml", 10, "devices[0].max_element_length", "must be positive");
+}
+
 TEST_F(Loader, ScriptedCommandBeyondLimitsIsRefused) {
   expectNames(sceneError("insertion: 0.01", "insertion: 0.2"), "scene.yaml", 11, "script[0]",
               "exceeds the limit");
