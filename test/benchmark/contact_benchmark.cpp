@@ -149,20 +149,23 @@ void BM_SiconosLemke(benchmark::State& st) { runSiconos(st, SICONOS_LCP_LEMKE); 
 void BM_SiconosPivot(benchmark::State& st) { runSiconos(st, SICONOS_LCP_PIVOT); }
 
 /// LCPs dumped from real steps: the `aneurysm` scene (the coil deployed
-/// with self-contact, 6,000 steps) and `dead_end` (a wire buckling in a
-/// closed tube, 2,500 steps). For each target size the step whose last LCP
-/// has the nearest number of rows (the counter `c` says which).
+/// with self-contact, 6,000 steps), `dead_end` (a wire buckling in a
+/// closed tube, 2,500 steps) and `large_step` (40 ms steps, the wire looped
+/// in the arch, 200 steps: the LCPs of 300-500 rows). For each target size
+/// the step whose last LCP has the nearest number of rows (the counter `c`
+/// says which).
 const LcpRecord& sceneLcp(int target) {
   static std::map<int, LcpRecord> best;
   if (best.empty()) {
-    for (const auto& [scene, steps] : {std::pair{"aneurysm", 6000}, std::pair{"dead_end", 2500}}) {
+    for (const auto& [scene, steps] :
+         {std::pair{"aneurysm", 6000}, std::pair{"dead_end", 2500}, std::pair{"large_step", 200}}) {
       const SceneModel m = loadScene(scene);
       SimData d = makeData(m);
       d.record_lcp = true;
       for (int k = 0; k < steps; ++k) {
         if (step(m, &d) != StepStatus::kOk) break;
         const int c = static_cast<int>(d.lcp.q.size());
-        for (int t : {10, 50, 100, 200, 250}) {
+        for (int t : {10, 50, 100, 200, 250, 300, 400}) {
           auto it = best.find(t);
           if (c > 0 && (it == best.end() || std::abs(c - t) < std::abs(it->second.q.size() - t)))
             best[t] = d.lcp;
@@ -194,7 +197,9 @@ void BM_SceneLemke(benchmark::State& st) { runOursOnScene(st, LcpSolver::kLemke)
 void BM_SceneSiconosLemke(benchmark::State& st) { runSiconosOnScene(st, SICONOS_LCP_LEMKE); }
 void BM_SceneSiconosPivot(benchmark::State& st) { runSiconosOnScene(st, SICONOS_LCP_PIVOT); }
 
-#define SCENE_SIZES ->Arg(10)->Arg(50)->Arg(100)->Arg(200)->Arg(250)->Unit(benchmark::kMicrosecond)
+#define SCENE_SIZES                                                           \
+  ->Arg(10)->Arg(50)->Arg(100)->Arg(200)->Arg(250)->Arg(300)->Arg(400)->Unit( \
+      benchmark::kMicrosecond)
 BENCHMARK(BM_SceneStatusMethod) SCENE_SIZES;
 BENCHMARK(BM_SceneStatusMethodPaperStart) SCENE_SIZES;
 BENCHMARK(BM_SceneLemke) SCENE_SIZES;

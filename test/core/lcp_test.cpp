@@ -151,17 +151,48 @@ namespace evsim {
 namespace {
 
 TEST(Lcp, SceneLcpsAgreeWithSiconos) {
-  int compared = 0, largest = 0;
-  for (const char* name : {"carotid", "aneurysm"}) {
+  int compared = 0, largest = 0, beyond_siconos = 0;
+  struct Source {
+    const char* scene;
+    int steps, quota;  // every 10th step's LCP, up to the quota
+  };
+  // large_step (40 ms steps, the wire looped in the arch): LCPs of 300-500 rows.
+  for (const Source& src :
+       {Source{"carotid", 3000, 30}, Source{"aneurysm", 3000, 30}, Source{"large_step", 200, 20}}) {
+    const char* name = src.scene;
     const SceneModel m = loadScene(name);
     SimData d = makeData(m);
     d.record_lcp = true;
-    for (int k = 0; k < 3000 && compared < 60; ++k) {
+    for (int k = 0, taken = 0; k < src.steps && taken < src.quota; ++k) {
       ASSERT_EQ(step(m, &d), StepStatus::kOk) << d.last_error;
       if (d.lcp.q.size() < 3 || k % 10) continue;
       const LcpRecord& r = d.lcp;
+      const int c = static_cast<int>(r.q.size());
       VecX ref;
-      ASSERT_EQ(test::siconosLcp(r.W, r.q, SICONOS_LCP_LEMKE, 1e-14, &ref), 0);
+      // Siconos to its own error 1e-12: Lemke, else its pivoting solver.
+      const bool oracle = test::siconosLcp(r.W, r.q, SICONOS_LCP_LEMKE, 1e-12, &ref) == 0 ||
+                          test::siconosLcp(r.W, r.q, SICONOS_LCP_PIVOT, 1e-12, &ref) == 0;
+      if (!oracle) {
+        // Beyond the c <= 400 Siconos may fail (a 673-row LCP of
+        // large_step: Lemke's and the pivot solver's errors 0.035). The
+        // status method must still solve it; our Lemke may fail, but must
+        // say so rather than return a wrong answer.
+        ASSERT_GT(c, 400) << name << " step " << k << ": Siconos failed";
+        VecX z;
+        LcpOptions o;
+        ASSERT_EQ(solveLcp(r.W, r.q, o, &z), LcpStatus::kSolved) << name << " step " << k;
+        const double residual = lcpResidual(r.W, r.q, z);
+        EXPECT_LE(residual, 1e-10) << name << " step " << k;
+        o.solver = LcpSolver::kLemke;
+        if (solveLcp(r.W, r.q, o, &z) == LcpStatus::kSolved) {
+          EXPECT_LE(lcpResidual(r.W, r.q, z), 1e-10) << name << " step " << k << " Lemke";
+        }
+        std::printf(
+            "[ metric   ] %s step %d: Siconos fails on c = %d; status method residual %.3g\n", name,
+            k, c, residual);
+        ++beyond_siconos;
+        continue;
+      }
       // The Delassus operator of a contact set may be singular: compare the
       // gaps w, which are unique, and the total force along each normal set.
       for (int variant = 0; variant < 3; ++variant) {
@@ -169,18 +200,22 @@ TEST(Lcp, SceneLcpsAgreeWithSiconos) {
         o.solver = variant == 2 ? LcpSolver::kLemke : LcpSolver::kStatusMethod;
         o.start_from_violated = variant == 1;  // the paper's start
         VecX z;
-        ASSERT_EQ(solveLcp(r.W, r.q, o, &z), LcpStatus::kSolved);
+        ASSERT_EQ(solveLcp(r.W, r.q, o, &z), LcpStatus::kSolved) << name << " step " << k;
         EXPECT_LE(lcpResidual(r.W, r.q, z), 1e-10) << name << " step " << k << " " << variant;
         EXPECT_LT((r.W * z - r.W * ref).norm(), 1e-8 * std::max(r.q.norm(), 1e-12))
             << name << " step " << k;
       }
-      largest = std::max(largest, static_cast<int>(r.q.size()));
+      largest = std::max(largest, c);
       ++compared;
+      ++taken;
     }
   }
-  std::printf("[ metric   ] %d scene LCPs compared with Siconos, largest c = %d\n", compared,
-              largest);
-  EXPECT_GE(compared, 20);
+  std::printf(
+      "[ metric   ] %d scene LCPs compared with Siconos, largest c = %d; %d larger where "
+      "Siconos fails\n",
+      compared, largest, beyond_siconos);
+  EXPECT_GE(compared, 60);
+  EXPECT_GE(largest, 400);
 }
 
 TEST(Lcp, DumpFormatRoundTrips) {
