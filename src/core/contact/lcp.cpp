@@ -222,13 +222,18 @@ LcpStatus lemke(const MatX& W, const VecX& q, const LcpOptions& o, VecX* z, LcpS
   z->setZero(c);
   if (c == 0 || q.minCoeff() >= 0.0) return LcpStatus::kSolved;
   const int limit = o.max_iterations > 0 ? o.max_iterations : 20 * c + 100;
+  // The pivot and tie thresholds are absolute: the tableau is built on W and
+  // q scaled to unit largest entries (W [m/N] and q [m] span many decades
+  // between scenes), and z scaled back at the end.
+  const double w_scale = std::max(W.diagonal().maxCoeff(), 1e-300);
+  const double q_scale = q.cwiseAbs().maxCoeff();
   // Columns: 0..c-1 w, c..2c-1 z, 2c z0; last column the right-hand side.
   MatX T(c, 2 * c + 2);
   T.setZero();
   T.leftCols(c).setIdentity();
-  T.middleCols(c, c) = -W;
+  T.middleCols(c, c) = -W / w_scale;
   T.col(2 * c).setConstant(-1.0);
-  T.col(2 * c + 1) = q;
+  T.col(2 * c + 1) = q / q_scale;
   std::vector<int> basis(c);
   for (int i = 0; i < c; ++i) basis[i] = i;
   auto pivot = [&](int row, int col) {
@@ -262,7 +267,8 @@ LcpStatus lemke(const MatX& W, const VecX& q, const LcpOptions& o, VecX* z, LcpS
     pivot(best, entering);
     if (leaving == 2 * c) {
       for (int r = 0; r < c; ++r)
-        if (basis[r] >= c && basis[r] < 2 * c) (*z)(basis[r] - c) = std::max(0.0, T(r, 2 * c + 1));
+        if (basis[r] >= c && basis[r] < 2 * c)
+          (*z)(basis[r] - c) = std::max(0.0, T(r, 2 * c + 1)) * q_scale / w_scale;
       // Polish: re-solve the complementary basis exactly.
       std::vector<int> a;
       for (int i = 0; i < c; ++i)
