@@ -187,6 +187,10 @@ std::vector<Row> sweepScene(const std::string& scene, double duration) {
     SceneSpec spec = base;
     s.apply(&spec);
     if (!validateContactOptions(spec.contact).empty()) continue;
+    if (const std::string why = sceneLimitViolation(spec); !why.empty()) {
+      std::cerr << "  " << s.knob << "=" << s.value << ": refused, " << why << "\n";
+      continue;
+    }
     const RunResult run = runScene(spec, duration);
     Row r;
     r.knob = s.knob;

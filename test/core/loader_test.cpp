@@ -238,6 +238,30 @@ TEST_F(Loader, ScriptedCommandBeyondLimitsIsRefused) {
               "exceeds the limit");
 }
 
+TEST_F(Loader, ACoarserVariantThanTheSceneAllowsIsRefused) {
+  write("wire.urdf", kDevice);
+  std::string scene = kScene;
+  const std::string at = "inserted_length: 0.05";
+  scene.replace(scene.find(at), at.size(), at + "\n    max_element_length: 0.004");
+  SceneSpec spec = loadSceneFile(write("scene.yaml", scene));
+  EXPECT_EQ(sceneLimitViolation(spec), "");
+  EXPECT_NO_THROW(buildSceneModel(spec));
+  // Halving the shaft's 75 elements (what `evsim bench --elements` or the
+  // accuracy sweep does) gives 8.1 mm elements against the 4 mm limit.
+  spec.devices[0].device.sections[0].elements = 37;
+  EXPECT_NE(sceneLimitViolation(spec).find("allows at most 4 mm"), std::string::npos)
+      << sceneLimitViolation(spec);
+  try {
+    buildSceneModel(spec);
+    ADD_FAILURE() << "a coarser discretisation than the scene's limit was accepted";
+  } catch (const LoadError& e) {
+    expectNames(e, "scene.yaml", 10, "devices[0].max_element_length", "8.1");
+  }
+  spec.devices[0].device.sections[0].elements = 75;
+  spec.time_step = 0.05;  // beyond one step per 25 Hz frame
+  EXPECT_THROW(buildSceneModel(spec), LoadError);
+}
+
 TEST_F(Loader, MalformedYamlGivesItsLine) {
   const LoadError e = sceneError("  - file: wire.urdf", "  - file: [wire.urdf");
   EXPECT_GT(e.line(), 0);

@@ -21,6 +21,11 @@ struct DevicePlacementSpec {
   double rotation{0.0};         // at start [rad]
   std::string inside;           // effect 'coaxial': the outer device's name ("" none)
   int outer{-1};                // its index; the introducer is the outer device's
+  /// The scene's limit on this device's element length [m] (0: none), and
+  /// the scene file's line that states it: the loader refines the device
+  /// file's sections to it, and checkSceneLimits refuses a coarser variant.
+  double max_element_length{0.0};
+  int max_element_length_line{0};
 };
 
 struct ScriptedCommand {
@@ -66,6 +71,16 @@ const std::vector<std::string>& knownEffects();
 /// Reads and validates a scene and the device files it names. Throws
 /// LoadError naming the file, the line and the field.
 SceneSpec loadSceneFile(const std::string& path);
+
+/// Why a scene (possibly changed after loading: `evsim bench --elements`,
+/// the accuracy sweep) is beyond the limits it states: a time step outside
+/// (0, 0.04] s, or a device with elements longer than its
+/// max_element_length. "" when it is within them.
+std::string sceneLimitViolation(const SceneSpec& spec);
+
+/// Throws LoadError (the scene file, the line of the limit, the field) when
+/// sceneLimitViolation is not empty.
+void checkSceneLimits(const SceneSpec& spec);
 
 /// Folder of the shipped configuration (devices/, scenes/): $EVSIM_CONFIG_DIR
 /// or the package's config/.

@@ -106,6 +106,8 @@ struct SimData {
   std::vector<std::string> notices;  // scripted commands refused (runners print and clear them)
 };
 
+/// Throws LoadError when the spec is beyond the limits its scene states
+/// (checkSceneLimits: a changed time step or discretisation).
 SceneModel buildSceneModel(const SceneSpec& spec);
 
 /// Loads a scene by name or path (throws LoadError).

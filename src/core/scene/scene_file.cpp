@@ -17,6 +17,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
+constexpr double kMaxTimeStep = 0.04;  // [s] one step per 25 Hz frame
+
 Mat3 introducerFrame(const Vec3& direction, const Vec3& up) {
   const Vec3 x = direction.normalized();
   Vec3 z = up - up.dot(x) * x;
@@ -58,6 +60,8 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
       r.fail(n["max_element_length"], p + "max_element_length", "must be positive [m]");
     for (DeviceSectionSpec& sec : d.device.sections)
       sec.elements = std::max(sec.elements, static_cast<int>(std::ceil(sec.length / h - 1e-9)));
+    d.max_element_length = h;
+    d.max_element_length_line = n["max_element_length"].Mark().line + 1;
   }
   const DeviceModel model = buildDeviceModel(d.device);
   d.inserted_length = r.number(n, "inserted_length", p, 0.0);
@@ -277,7 +281,7 @@ SceneSpec loadSceneFile(const std::string& path) {
   s.name = r.text(r.required(root, "name", "name"), "name");
   if (root["description"]) s.description = r.text(root["description"], "description");
   s.time_step = r.number(r.required(root, "time_step", "time_step"), "time_step");
-  if (!(s.time_step > 0.0 && s.time_step <= 0.04))
+  if (!(s.time_step > 0.0 && s.time_step <= kMaxTimeStep))
     r.fail(root["time_step"], "time_step", "must lie in (0, 0.04] s");
 
   if (root["effects"]) {
@@ -349,6 +353,49 @@ Centerline buildCenterline(const VesselSpec& spec) {
 VesselField buildVesselField(const VesselSpec& spec, bool with_motion) {
   return VesselField(buildCenterline(spec), spec.aneurysms,
                      with_motion ? spec.motion : std::vector<MotionRegion>{}, spec.field);
+}
+
+namespace {
+
+/// The first device section whose elements are longer than the device's
+/// limit, as (device index, why); (-1, "") when none is.
+std::pair<int, std::string> elementLimitViolation(const SceneSpec& spec) {
+  for (size_t i = 0; i < spec.devices.size(); ++i) {
+    const DevicePlacementSpec& d = spec.devices[i];
+    if (!(d.max_element_length > 0.0)) continue;
+    for (const DeviceSectionSpec& sec : d.device.sections) {
+      const double h = sec.length / std::max(1, sec.elements);
+      if (h <= d.max_element_length * (1.0 + 1e-9)) continue;
+      std::ostringstream why;
+      why << "device '" << d.device.name << "' section '" << sec.name << "' has " << h * 1e3
+          << " mm elements; scene '" << spec.name << "' allows at most "
+          << d.max_element_length * 1e3 << " mm (its elements must follow the vessels' bends)";
+      return {static_cast<int>(i), why.str()};
+    }
+  }
+  return {-1, ""};
+}
+
+}  // namespace
+
+std::string sceneLimitViolation(const SceneSpec& spec) {
+  if (!(spec.time_step > 0.0 && spec.time_step <= kMaxTimeStep)) {
+    std::ostringstream why;
+    why << "time step " << spec.time_step << " s outside (0, 0.04] s";
+    return why.str();
+  }
+  return elementLimitViolation(spec).second;
+}
+
+void checkSceneLimits(const SceneSpec& spec) {
+  if (!(spec.time_step > 0.0 && spec.time_step <= kMaxTimeStep))
+    throw LoadError(spec.file, 0, "time_step", sceneLimitViolation(spec));
+  const auto [device, why] = elementLimitViolation(spec);
+  if (device >= 0) {
+    const DevicePlacementSpec& d = spec.devices[device];
+    throw LoadError(spec.file, d.max_element_length_line,
+                    "devices[" + std::to_string(device) + "].max_element_length", why);
+  }
 }
 
 std::string configDirectory() {

@@ -150,6 +150,7 @@ StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth)
 }  // namespace
 
 SceneModel buildSceneModel(const SceneSpec& spec) {
+  checkSceneLimits(spec);
   SceneModel m;
   m.name = spec.name;
   m.file = spec.file;
