@@ -1,6 +1,6 @@
 // The contact space at c = 10 ... 400 contacts on a 200-element guidewire:
-//  - the Delassus operator W = H A^-1 H^T from one block solve (ours) against
-//    c separate solves (the naive way);
+//  - the Delassus operator W = H A^-1 H^T from the band of A^-1 (the contact
+//    solver's), from one block solve, and from c separate solves (naive);
 //  - LCP solvers on those W: the status method, PGS, Lemke, and Siconos'
 //    Lemke and pivoting solvers (its Newton-min needed seconds at c = 10 on
 //    these nearly dependent contacts and is left out).
@@ -81,6 +81,21 @@ void BM_DelassusBlockSolve(benchmark::State& st) {
     benchmark::DoNotOptimize(W.data());
   }
   st.counters["c"] = static_cast<double>(st.range(0));
+}
+
+/// The contact solver's way: the band of A^-1 (its cost included) and the
+/// columns carried down the chain.
+void BM_DelassusChain(benchmark::State& st) {
+  ContactSpace& s = space(static_cast<int>(st.range(0)));
+  ChainInverse inverse;
+  MatX W;
+  for (auto _ : st) {
+    inverse.compute(s.ws.system, s.ws.first_free_node);
+    chainDelassusOperator(inverse, s.rows, &W);
+    benchmark::DoNotOptimize(W.data());
+  }
+  st.counters["c"] = static_cast<double>(st.range(0));
+  st.counters["difference"] = (W - s.W).norm() / s.W.norm();  // to the block solve's
 }
 
 void BM_DelassusSeparateSolves(benchmark::State& st) {
@@ -208,6 +223,7 @@ BENCHMARK(BM_SceneSiconosPivot) SCENE_SIZES;
 
 #define CONTACT_SIZES \
   ->Arg(10)->Arg(50)->Arg(100)->Arg(200)->Arg(400)->Unit(benchmark::kMicrosecond)
+BENCHMARK(BM_DelassusChain) CONTACT_SIZES;
 BENCHMARK(BM_DelassusBlockSolve) CONTACT_SIZES;
 BENCHMARK(BM_DelassusSeparateSolves) CONTACT_SIZES;
 BENCHMARK(BM_StatusMethod) CONTACT_SIZES;

@@ -21,9 +21,13 @@
 //   until     no point lies beyond the wall by more than the tolerance, or
 //             N loops (the caller then subdivides the time step).
 //
-// W is formed from one block solve A Y = H^T per device with the stored
-// CHOLMOD factor (O(c n) for a chain), then W = H Y using the 12 non-zeros of
-// each row of H (O(c^2)); A^-1 is never formed.
+// W is formed per device, A^-1 never: from 16 rows on, from the band of
+// A^-1 (mechanics/chain_inverse.h, once a step; each loop for A + C with
+// the wall's curvature), every row's column A^-1 h_j carried down the chain
+// and dotted with the rows below it; below 16 rows, where the band's O(n)
+// cost dominates, from one block solve Y = A^-1 H^T with the stored CHOLMOD
+// factor (contact/delassus.h; both O(c n)). The correction A^-1 H^T lambda
+// is Y lambda, or one solve with the factor.
 #pragma once
 
 #include <string>

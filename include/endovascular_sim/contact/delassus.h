@@ -1,15 +1,23 @@
 // The Delassus operator W = H A^-1 H^T of one device, without forming A^-1.
 //
-// Each contact row of H has 12 non-zeros (two nodes). One CHOLMOD solve with
-// a block of c right-hand sides gives Y = A^-1 H^T (O(c n) for a chain:
-// banded triangular solves), then W_ij = h_i . Y_j over the 12 non-zeros of
-// h_i (O(c^2)). The naive alternative — c separate solves and a dense
-// product H Y, O(c n) + O(c^2 n) — is measured against it in the benchmarks.
+// Each contact row of H has 12 non-zeros (two nodes). Two ways, both O(c n)
+// for a chain of n nodes:
+//  - chainDelassusOperator (the contact solver's): from the band of A^-1
+//    (mechanics/chain_inverse.h), each row's column A^-1 h_j is started at
+//    its element and carried down the chain, one 6x6 product per block, and
+//    dotted with every row whose element lies below: W_ij for i <= j, no
+//    triangular solve, no n x c matrix;
+//  - delassusOperator: one CHOLMOD solve with a block of c right-hand sides
+//    gives Y = A^-1 H^T (banded triangular solves, both directions over the
+//    whole chain), then W_ij = h_i . Y_j over the 12 non-zeros of h_i.
+// The naive alternative, c separate solves and a dense product H Y
+// (O(c n) + O(c^2 n)), is measured against both in the benchmarks.
 #pragma once
 
 #include <vector>
 
 #include "endovascular_sim/contact/contact_point.h"
+#include "endovascular_sim/mechanics/chain_inverse.h"
 #include "endovascular_sim/mechanics/sparse_cholesky.h"
 
 namespace evsim {
@@ -27,5 +35,13 @@ struct ContactRow {
 /// Y = A^-1 H^T (free DOFs x c) and W = H Y (c x c).
 void delassusOperator(SparseCholesky& cholesky, const std::vector<ContactRow>& rows, MatX* Y,
                       MatX* W);
+
+/// W = H A^-1 H^T (c x c) from the selected inverse of A over the free
+/// nodes.
+void chainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
+                           MatX* W);
+
+/// H^T lambda over the free DOFs (n): the generalised force of the rows.
+VecX contactForce(int n, const std::vector<ContactRow>& rows, const VecX& lambda);
 
 }  // namespace evsim

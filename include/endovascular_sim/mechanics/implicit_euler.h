@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "endovascular_sim/core/types.h"
+#include "endovascular_sim/mechanics/chain_inverse.h"
 #include "endovascular_sim/mechanics/chain_matrix.h"
 #include "endovascular_sim/mechanics/device_model.h"
 #include "endovascular_sim/mechanics/device_state.h"
@@ -32,6 +33,7 @@ struct DeviceWorkspace {
   std::vector<double> curved_values;  // its CSC values
   SparseCholesky curved;              // its factor
   int curved_size{-1};                // dimension its symbolic analysis was done for
+  ChainInverse inverse;               // band of A^-1 or (A + C)^-1 (the Delassus operator)
   double elastic_energy{0.0};         // [J] at the start of the step
 };
 

@@ -21,6 +21,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+/// Rows of one device from which W comes from the band of A^-1 (one O(n)
+/// selected inversion per matrix, then the sweep) rather than from the
+/// block solve Y = A^-1 H^T (O(c n) triangular solves): the two cost the
+/// same at about 16 rows on a 200-element wire (BM_Delassus*).
+constexpr int kChainDelassusMinRows = 16;
+
 double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
@@ -532,6 +538,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   std::vector<std::array<Vec3, 2>> tangents;  // per contact with friction: t1, t2
   std::vector<DeviceState> x = xf;
   std::vector<char> updated(contacts->size(), 0);  // plane already updated in this step
+  std::vector<char> inverse_of_A(nd, 0);           // ws[d].inverse holds the band of A^-1
   for (int loop = 1; loop <= o.max_activation_loops && !solved; ++loop) {
     st->activation_loops = loop;
     const int c = static_cast<int>(contacts->size());
@@ -598,10 +605,11 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       }
     }
     std::vector<std::vector<int>> of_device(nd);  // rows with a part on each device
-    std::vector<MatX> Y(nd);                      // A^-1 H^T per device (free DOFs x its rows)
+    std::vector<std::vector<ContactRow>> rows_of(nd);
+    std::vector<MatX> Y(nd);  // A^-1 H^T where W came from the block solve
     for (size_t d = 0; d < nd; ++d) {
       if (parts[d].empty()) continue;
-      std::vector<ContactRow> device_rows;
+      std::vector<ContactRow>& device_rows = rows_of[d];
       std::map<int, int> column;  // row -> column
       for (const Part& pt : parts[d]) {
         const Row12& h = pt.h;
@@ -622,7 +630,19 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         }
       }
       MatX Wd;
-      delassusOperator(*factor[d], device_rows, &Y[d], &Wd);
+      if (static_cast<int>(device_rows.size()) < kChainDelassusMinRows) {
+        delassusOperator(*factor[d], device_rows, &Y[d], &Wd);
+      } else {
+        // The band of (A + C)^-1 each loop with curvature, of A once a step.
+        const bool curved = factor[d] != &ws[d].cholesky;
+        if (curved || !inverse_of_A[d]) {
+          const ChainMatrix& A = curved ? ws[d].curved_system : ws[d].system;
+          if (!ws[d].inverse.compute(A, ws[d].first_free_node)) return false;
+          inverse_of_A[d] = !curved;
+        }
+        Y[d].resize(0, 0);
+        chainDelassusOperator(ws[d].inverse, device_rows, &Wd);
+      }
       const auto& idx = of_device[d];
       for (size_t a = 0; a < idx.size(); ++a)
         for (size_t b = 0; b < idx.size(); ++b) W(idx[a], idx[b]) += Wd(a, b);
@@ -666,7 +686,13 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       VecX l(idx.size());
       for (size_t j = 0; j < idx.size(); ++j) l(j) = lambda(idx[j]);
       const int n = factor[d]->size();
-      dq[d].tail(n) += Y[d] * l;
+      if (Y[d].size() > 0) {
+        dq[d].tail(n) += Y[d] * l;
+      } else {
+        VecX correction = contactForce(n, rows_of[d], l);
+        factor[d]->solveInPlace(&correction);
+        dq[d].tail(n) += correction;
+      }
     }
     x = moved(start, dq);
     for (int i = 0; i < c; ++i) {

@@ -1,0 +1,46 @@
+// Selected inverse of a symmetric positive definite chain matrix (6x6 block
+// tridiagonal, mechanics/chain_matrix.h): the blocks of S = A^-1 on the band,
+// without the rest of S.
+//
+// Block LDL^T of the trailing blocks [first, N):
+//   D_0 = A_00,   L_i = A_{i,i-1} D_{i-1}^-1,   D_i = A_ii - L_i A_{i-1,i},
+// then the band of S from the last block down (Takahashi's recursion):
+//   S_{n-1,n-1} = D_{n-1}^-1,  S_{i+1,i} = -S_{i+1,i+1} L_{i+1},
+//   S_ii = D_i^-1 - L_{i+1}^T S_{i+1,i}.
+// Away from the band, column j of S follows from L^T S = D^-1 L^-1 (lower
+// triangular): S_ij g = -L_{i+1}^T (S_{i+1,j} g) for i < j, one 6x6
+// product per block. The contact solver builds the Delassus operator from
+// this (contact/delassus.h). O(N) 6x6 operations; no pivoting (A is SPD).
+#pragma once
+
+#include <vector>
+
+#include "endovascular_sim/core/types.h"
+#include "endovascular_sim/mechanics/chain_matrix.h"
+
+namespace evsim {
+
+class ChainInverse {
+ public:
+  /// Factorises blocks [first, A.numBlocks()) of A; false when a pivot block
+  /// is not positive definite.
+  bool compute(const ChainMatrix& A, int first);
+  /// Blocks of the factorised part (indices below are relative to `first`).
+  int numBlocks() const { return static_cast<int>(diag_.size()); }
+  /// S_ii.
+  const Mat6& diagonal(int i) const { return diag_[i]; }
+  /// S_{i+1,i} (S_{i,i+1} is its transpose).
+  const Mat6& subdiagonal(int i) const { return sub_[i]; }
+  /// S_ij g for i < j from S_{i+1,j} g: -L_{i+1}^T v.
+  Vec6 propagateDown(int i, const Vec6& v_above) const { return -lower_t_[i] * v_above; }
+  /// L_{i+1}^T, to carry several columns down at once (-L_{i+1}^T V).
+  const Mat6& lowerTransposed(int i) const { return lower_t_[i]; }
+
+ private:
+  std::vector<Mat6> lower_t_;  // L_{i+1}^T, i in [0, n-1)
+  std::vector<Mat6> diag_;     // S_ii
+  std::vector<Mat6> sub_;      // S_{i+1,i}
+  std::vector<Mat6> d_inv_;    // D_i^-1 (workspace)
+};
+
+}  // namespace evsim
