@@ -108,6 +108,38 @@ TEST_P(RankDeficientAgainstSiconos, GapsAgree) {
 INSTANTIATE_TEST_SUITE_P(Sizes, RankDeficientAgainstSiconos,
                          ::testing::Values(2, 5, 10, 40, 100, 300));
 
+TEST(Lcp, WarmStartedStatusMethodFindsTheSameGapsInFewerPivots) {
+  // Redundant contact sets (300 rows on 150 DOFs), as in the activation
+  // loop: the next loop's LCP is this one with q moved a little; it is
+  // started from this one's forces.
+  for (int seed : {1, 2, 3}) {
+    std::mt19937 rng(700 + seed);
+    const Lcp l = redundantContactLcp(300, 150, &rng);
+    VecX cold, warm;
+    LcpStats cold_stats, warm_stats;
+    ASSERT_EQ(solveLcp(l.W, l.q, {}, &cold, &cold_stats), LcpStatus::kSolved);
+    // q + W d = B (du + B^T d) + s: the moved problem stays feasible.
+    std::normal_distribution<double> n(0.0, 0.01 * cold.norm() / std::sqrt(300.0));
+    VecX d(300);
+    for (int i = 0; i < d.size(); ++i) d(i) = n(rng);
+    const VecX q = l.q + l.W * d;
+    VecX reference;
+    ASSERT_EQ(test::siconosLcp(l.W, q, SICONOS_LCP_LEMKE, 1e-14, &reference), 0);
+    ASSERT_EQ(solveLcp(l.W, q, {}, &cold, &cold_stats), LcpStatus::kSolved);
+    LcpOptions o;
+    o.warm_start = true;
+    solveLcp(l.W, l.q, {}, &warm);  // this loop's forces ...
+    ASSERT_EQ(solveLcp(l.W, q, o, &warm, &warm_stats), LcpStatus::kSolved);  // ... start the next
+    const VecX w_ref = l.W * reference + q;
+    EXPECT_LT((l.W * warm + q - w_ref).norm(), 1e-8 * q.norm()) << seed;
+    EXPECT_LT((l.W * cold + q - w_ref).norm(), 1e-8 * q.norm()) << seed;
+    EXPECT_LE(lcpResidual(l.W, q, warm), 1e-10) << seed;
+    EXPECT_LT(warm_stats.iterations, cold_stats.iterations / 2) << seed;
+    std::printf("[ metric   ] warm start, seed %d: %d pivots against %d cold\n", seed,
+                warm_stats.iterations, cold_stats.iterations);
+  }
+}
+
 TEST(Lcp, PgsConvergesToTheSameSolutionSlowly) {
   std::mt19937 rng(5);
   const Lcp l = randomLcp(40, 40, 0.5, &rng);

@@ -39,6 +39,10 @@ struct LcpOptions {
   int max_iterations{0};            // pivots or sweeps; 0: 20 c + 100 (pivoting), 1000 (PGS)
   double regularization{1e-12};     // status method: eps / max(diag W) [-]
   bool start_from_violated{false};  // status method: the paper's initial active set
+  /// Status method: start from the rows with a positive force in the z
+  /// passed in (size c; the previous activation loop's answer), largest
+  /// first. The answer is the same (w is unique); only the pivots change.
+  bool warm_start{false};
 };
 
 enum class LcpStatus { kSolved, kIterationLimit, kFailed };
@@ -51,7 +55,9 @@ struct LcpStats {
   double residual{0.0};       // natural-map residual |z - max(0, z - w)| / |q|
 };
 
-/// Solves the LCP (W: c x c, q: c). z is resized; on kFailed it is zero.
+/// Solves the LCP (W: c x c, q: c). z is read as the warm start when
+/// options.warm_start is set and it has size c, then resized; on kFailed it
+/// is zero.
 LcpStatus solveLcp(const MatX& W, const VecX& q, const LcpOptions& options, VecX* z,
                    LcpStats* stats = nullptr);
 

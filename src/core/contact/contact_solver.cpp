@@ -667,8 +667,14 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       st->sliding_contacts = fs.sliding;
       ++st->friction_solves;
     } else {
+      // Warm start: the forces of the last loop (or, for contacts that
+      // persist, of the last step); the new contacts start inactive.
+      lambda.resize(c);
+      for (int i = 0; i < c; ++i) lambda(i) = std::max(0.0, (*contacts)[i].force);
+      LcpOptions lo = o.lcp;
+      lo.warm_start = true;
       LcpStats ls;
-      status = solveLcp(W, q, o.lcp, &lambda, &ls);
+      status = solveLcp(W, q, lo, &lambda, &ls);
       st->lcp_iterations += ls.iterations;
       st->lcp_residual = ls.residual;
     }

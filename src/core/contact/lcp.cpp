@@ -124,7 +124,11 @@ LcpStatus statusMethod(const MatX& W, const VecX& q, const LcpOptions& o, VecX* 
   // Start from the empty set, or (the paper's start) from every contact
   // violated by the free motion, most violated first.
   std::vector<int> order;
-  if (o.start_from_violated) {
+  if (o.warm_start && z->size() == c) {
+    for (int i = 0; i < c; ++i)
+      if ((*z)(i) > 0.0) order.push_back(i);
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return (*z)(a) > (*z)(b); });
+  } else if (o.start_from_violated) {
     order.reserve(c);
     for (int i = 0; i < c; ++i)
       if (q(i) < -o.tolerance) order.push_back(i);
