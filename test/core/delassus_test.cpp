@@ -12,23 +12,12 @@
 #include "endovascular_sim/mechanics/implicit_euler.h"
 #include "endovascular_sim/scene/scene_file.h"
 #include "endovascular_sim/sim/simulation.h"
+#include "test_helpers.h"
 
 namespace evsim {
 namespace {
 
-ChainMatrix randomSpdChain(int blocks, std::mt19937* rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  ChainMatrix A;
-  A.resize(blocks);
-  for (int i = 0; i < blocks; ++i) {
-    Mat6 g;
-    for (int k = 0; k < 36; ++k) g.data()[k] = n(*rng);
-    A.diag[i] = g * g.transpose() + 20.0 * Mat6::Identity();
-    if (i + 1 < blocks)
-      for (int k = 0; k < 36; ++k) A.upper[i].data()[k] = n(*rng);
-  }
-  return A;
-}
+using test::randomSpdChain;
 
 Row12 randomRow(std::mt19937* rng) {
   std::normal_distribution<double> n(0.0, 1.0);
@@ -185,17 +174,26 @@ CoilSystem packedCoilSystem(double inserted) {
   return c;
 }
 
+/// W of the coil's rows from the band of A^-1 and from the block solve;
+/// false when A is not positive definite.
+bool bothOperators(CoilSystem* c, MatX* W_chain, MatX* W_block) {
+  DeviceWorkspace& ws = c->data.workspaces[0];
+  ChainInverse inverse;
+  if (!inverse.compute(ws.system, ws.first_free_node)) return false;
+  chainDelassusOperator(inverse, c->rows, W_chain);
+  MatX Y;
+  delassusOperator(ws.cholesky, c->rows, &Y, W_block);
+  return true;
+}
+
 TEST(ChainDelassus, MatchesALongDoubleSolveOnThePackedCoilsMatrix) {
   // 8 cm out (966 free DOFs): the reference is a dense Cholesky in long
   // double. Measured: 6.0e-12 relative (the block solve: 1.2e-11).
   CoilSystem c = packedCoilSystem(0.08);
-  DeviceWorkspace& ws = c.data.workspaces[0];
   ASSERT_GE(c.rows.size(), 50u);
-  ChainInverse inverse;
-  ASSERT_TRUE(inverse.compute(ws.system, ws.first_free_node));
-  MatX W, Y, W_block;
-  chainDelassusOperator(inverse, c.rows, &W);
-  delassusOperator(ws.cholesky, c.rows, &Y, &W_block);
+  MatX W, W_block;
+  ASSERT_TRUE(bothOperators(&c, &W, &W_block));
+  const DeviceWorkspace& ws = c.data.workspaces[0];
   using MatL = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
   const MatL A = ws.system.toDense().bottomRightCorner(c.n, c.n).cast<long double>();
   const MatL H = denseH(c.rows, c.n).cast<long double>();
@@ -206,13 +204,9 @@ TEST(ChainDelassus, MatchesALongDoubleSolveOnThePackedCoilsMatrix) {
 
 TEST(ChainDelassus, MatchesTheBlockSolveOnTheWholePackedCoil) {
   CoilSystem c = packedCoilSystem(0.28);  // 560 free elements
-  DeviceWorkspace& ws = c.data.workspaces[0];
   ASSERT_GE(c.rows.size(), 150u);
-  ChainInverse inverse;
-  ASSERT_TRUE(inverse.compute(ws.system, ws.first_free_node));
-  MatX W, Y, W_block;
-  chainDelassusOperator(inverse, c.rows, &W);
-  delassusOperator(ws.cholesky, c.rows, &Y, &W_block);
+  MatX W, W_block;
+  ASSERT_TRUE(bothOperators(&c, &W, &W_block));
   EXPECT_LT((W - W_block).norm(), 1e-10 * W_block.norm()) << c.rows.size() << " rows";
 }
 

@@ -7,23 +7,12 @@
 #include <random>
 
 #include "endovascular_sim/mechanics/chain_matrix.h"
+#include "test_helpers.h"
 
 namespace evsim {
 namespace {
 
-ChainMatrix randomSpdChain(int blocks, std::mt19937* rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  ChainMatrix A;
-  A.resize(blocks);
-  for (int i = 0; i < blocks; ++i) {
-    Mat6 g;
-    for (int k = 0; k < 36; ++k) g.data()[k] = n(*rng);
-    A.diag[i] = g * g.transpose() + 20.0 * Mat6::Identity();
-    if (i + 1 < blocks)
-      for (int k = 0; k < 36; ++k) A.upper[i].data()[k] = n(*rng);
-  }
-  return A;
-}
+using test::randomSpdChain;
 
 TEST(SparseCholesky, BlockRightHandSidesMatchDenseSolve) {
   std::mt19937 rng(5);

@@ -5,6 +5,7 @@
 
 #include "endovascular_sim/core/types.h"
 #include "endovascular_sim/mechanics/beam_section.h"
+#include "endovascular_sim/mechanics/chain_matrix.h"
 #include "endovascular_sim/mechanics/so3.h"
 
 namespace evsim::test {
@@ -22,6 +23,22 @@ inline BeamSection wireSection(double young_modulus, double radius, double densi
 inline Mat3 randomRotation(std::mt19937* rng) {
   std::normal_distribution<double> n(0.0, 1.0);
   return expSO3(Vec3(n(*rng), n(*rng), n(*rng)));
+}
+
+/// A random symmetric positive definite chain matrix (diagonally dominant
+/// 6x6 blocks).
+inline ChainMatrix randomSpdChain(int blocks, std::mt19937* rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  ChainMatrix A;
+  A.resize(blocks);
+  for (int i = 0; i < blocks; ++i) {
+    Mat6 g;
+    for (int k = 0; k < 36; ++k) g.data()[k] = n(*rng);
+    A.diag[i] = g * g.transpose() + 20.0 * Mat6::Identity();
+    if (i + 1 < blocks)
+      for (int k = 0; k < 36; ++k) A.upper[i].data()[k] = n(*rng);
+  }
+  return A;
 }
 
 }  // namespace evsim::test
