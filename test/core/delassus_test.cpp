@@ -126,13 +126,8 @@ TEST(ChainDelassus, MatchesDenseAndBlockSolveForEveryKindOfRow) {
   EXPECT_EQ(W, W.transpose());                    // exactly symmetric: each pair computed once
   EXPECT_EQ(W.row(rows.size() - 6).norm(), 0.0);  // the row with both nodes held
 
-  ChainCscPattern pattern;
-  pattern.build(A.numBlocks(), first);
   SparseCholesky chol;
-  chol.analyze(pattern.size, pattern.col_ptr, pattern.row_idx);
-  std::vector<double> values;
-  pattern.gather(A, &values);
-  ASSERT_TRUE(chol.factorize(values));
+  ASSERT_TRUE(test::factorChain(A, first, &chol));
   MatX Y, W_block;
   delassusOperator(chol, rows, &Y, &W_block);
   EXPECT_LT((W - W_block).norm(), 1e-12 * dense.norm());

@@ -18,15 +18,11 @@ TEST(SparseCholesky, BlockRightHandSidesMatchDenseSolve) {
   std::mt19937 rng(5);
   const ChainMatrix A = randomSpdChain(40, &rng);
   for (int first : {0, 7}) {
-    ChainCscPattern pattern;
-    pattern.build(A.numBlocks(), first);
     SparseCholesky chol;
-    chol.analyze(pattern.size, pattern.col_ptr, pattern.row_idx);
-    std::vector<double> values;
-    pattern.gather(A, &values);
-    ASSERT_TRUE(chol.factorize(values));
-    const MatX dense = A.toDense().bottomRightCorner(pattern.size, pattern.size);
-    const MatX B = MatX::Random(pattern.size, 5);
+    ASSERT_TRUE(test::factorChain(A, first, &chol));
+    const int n = chol.size();
+    const MatX dense = A.toDense().bottomRightCorner(n, n);
+    const MatX B = MatX::Random(n, 5);
     MatX X;
     chol.solve(B, &X);
     const MatX ref = dense.llt().solve(B);
@@ -41,13 +37,8 @@ TEST(SparseCholesky, ReportsIndefiniteMatrix) {
   std::mt19937 rng(9);
   ChainMatrix A = randomSpdChain(5, &rng);
   A.diag[3](2, 2) = -100.0;
-  ChainCscPattern pattern;
-  pattern.build(A.numBlocks(), 0);
   SparseCholesky chol;
-  chol.analyze(pattern.size, pattern.col_ptr, pattern.row_idx);
-  std::vector<double> values;
-  pattern.gather(A, &values);
-  EXPECT_FALSE(chol.factorize(values));
+  EXPECT_FALSE(test::factorChain(A, 0, &chol));
 }
 
 TEST(ChainMatrix, MultiplyMatchesDense) {

@@ -7,6 +7,7 @@
 #include "endovascular_sim/mechanics/beam_section.h"
 #include "endovascular_sim/mechanics/chain_matrix.h"
 #include "endovascular_sim/mechanics/so3.h"
+#include "endovascular_sim/mechanics/sparse_cholesky.h"
 
 namespace evsim::test {
 
@@ -39,6 +40,17 @@ inline ChainMatrix randomSpdChain(int blocks, std::mt19937* rng) {
       for (int k = 0; k < 36; ++k) A.upper[i].data()[k] = n(*rng);
   }
   return A;
+}
+
+/// CHOLMOD factor of blocks [first, N) of A, as the free motion makes it;
+/// false when that part is not positive definite.
+inline bool factorChain(const ChainMatrix& A, int first, SparseCholesky* chol) {
+  ChainCscPattern pattern;
+  pattern.build(A.numBlocks(), first);
+  chol->analyze(pattern.size, pattern.col_ptr, pattern.row_idx);
+  std::vector<double> values;
+  pattern.gather(A, &values);
+  return chol->factorize(values);
 }
 
 }  // namespace evsim::test

@@ -29,9 +29,6 @@ void delassusOperator(SparseCholesky& cholesky, const std::vector<ContactRow>& r
     }
 }
 
-}  // namespace evsim
-
-namespace evsim {
 namespace {
 
 /// One part of a row on the nodes (node, node + 1) of the free chain.
