@@ -5,7 +5,9 @@
 #include <random>
 #include <tuple>
 
+#include "endovascular_sim/contact/contact_solver.h"
 #include "endovascular_sim/contact/friction.h"
+#include "endovascular_sim/sim/simulation.h"
 #include "siconos_oracle.h"
 
 namespace evsim {
@@ -112,6 +114,45 @@ INSTANTIATE_TEST_SUITE_P(Sizes, FrictionAgainstSiconos,
                            return std::string(frictionSolverName(std::get<0>(info.param))) + "_c" +
                                   std::to_string(std::get<1>(info.param));
                          });
+
+/// The friction problems of `carotid_catheter` (a guidewire in a catheter:
+/// wall and lumen contacts, ~36 candidates, many redundant), solved from
+/// zero. With the monotone line search of session 8, 35 of 200 of them were
+/// not solved in 1,000 Newton steps; now each is solved, in 9.5 steps on
+/// average, and the velocities agree with Siconos' NSN_AC (the forces need
+/// not: redundant contacts share their load in many ways).
+TEST(FrictionSolver, SolvesEverySceneProblemFromZeroAsSiconosDoes) {
+  const SceneModel m = loadScene("carotid_catheter");
+  SimData d = makeData(m);
+  d.record_lcp = true;
+  std::vector<LcpRecord> problems;
+  for (int k = 0; k < 600; ++k) {
+    ASSERT_EQ(step(m, &d), StepStatus::kOk) << d.last_error;
+    if (k % 6 == 0 && d.lcp.mu.size() > 0) problems.push_back(d.lcp);
+  }
+  ASSERT_GE(problems.size(), 90u);
+  FrictionOptions options;
+  options.max_sweeps = 100;
+  int steps = 0, touching = 0;
+  for (const LcpRecord& p : problems) {
+    VecX ours, theirs;
+    FrictionStats st;
+    ASSERT_EQ(solveFrictionalContact(p.W, p.q, p.mu, options, &ours, &st), LcpStatus::kSolved)
+        << p.mu.size() << " contacts, residual " << st.residual;
+    steps += st.sweeps;
+    touching += st.sliding + st.sticking;
+    ASSERT_EQ(
+        test::siconosFrictionContact(p.W, p.q, p.mu, SICONOS_FRICTION_3D_NSN_AC, 1e-12, &theirs),
+        0);
+    const VecX u_ours = p.W * ours + p.q, u_theirs = p.W * theirs + p.q;
+    EXPECT_LE((u_ours - u_theirs).norm(), 1e-7 * p.q.norm());
+  }
+  const double mean_steps = static_cast<double>(steps) / problems.size();
+  std::printf("[ metric   ] %zu friction problems of carotid_catheter: %.1f Newton steps each\n",
+              problems.size(), mean_steps);
+  EXPECT_LE(mean_steps, 20.0);
+  EXPECT_GT(touching, static_cast<int>(problems.size()));
+}
 
 }  // namespace
 }  // namespace evsim

@@ -157,7 +157,11 @@ TEST(Capstan, PullingOverACylinderNeedsTheCapstanForceRatio) {
   m.initial_rotation.push_back(0.0);
   m.surface = std::make_shared<CapstanSurface>(cylinder);
   m.contact.friction = true;
-  m.contact.contact_spacing = 2e-3;  // the nodes only (see the README's known gaps)
+  // Sampled between the nodes too: redundant rows (cond W ~ 1e17). Before
+  // the non-monotone line search (session 9) Newton stalled on them and the
+  // test sampled the nodes only; the ratio is the same (1.8272 at the nodes,
+  // 1.8273 at 1 mm, 1.8291 at 0.5 mm).
+  m.contact.contact_spacing = 1e-3;
   m.samples.push_back(sampleDevice(m.devices[0], m.contact.contact_spacing));
 
   SimData d = makeData(m);
