@@ -66,10 +66,23 @@ LumenLocation locateInLumen(const DeviceModel& inner, const DeviceState& x_inner
   // off the axis in bends): the closest point within two elements of it.
   const Vec3 p = samplePosition(inner, x_inner, s);
   const int ne = outer.num_nodes - 1;
+  // The guessed element first; another is searched only if it can be
+  // closer. A point of element e's axis lies within its arc length l of
+  // both nodes, so it is at least (|p - x_e| + |p - x_e+1| - l) / 2 from p
+  // (l bounded by 1.1 rest lengths). The choice is the same as searching
+  // all five (ties to the lowest e).
+  double d0;
+  const double xi0_closest = closestOnElement(outer, x_outer, e0, p, &d0);
   double best = INFINITY;
   for (int e = std::max(0, e0 - 2); e <= std::min(ne - 1, e0 + 2); ++e) {
-    double d;
-    const double xi = closestOnElement(outer, x_outer, e, p, &d);
+    double d = d0, xi = xi0_closest;
+    if (e != e0) {
+      const double bound =
+          0.5 * ((p - x_outer.position[e]).norm() + (p - x_outer.position[e + 1]).norm() -
+                 1.1 * outer.elements[e].length);
+      if (bound > std::min(best, d0)) continue;
+      xi = closestOnElement(outer, x_outer, e, p, &d);
+    }
     if (d < best) {
       best = d;
       loc.axis.element = e;
