@@ -10,7 +10,8 @@ variant could not run (an effect the scene needs).
 usage: scripts/effects_table.py [EVSIM] [--csv FILE] [--scenes A,B] [--timeout S]
 
 A variant that takes more than the timeout (default 120 s) is reported as
-such (friction on the buckling wire of dead_end: the Newton solver stalls).
+such (until session 9, friction on the buckling wire of dead_end, where the
+Newton solver's monotone line search stalled).
 """
 import csv
 import os
