@@ -49,8 +49,16 @@ void FramePublisher::setScene(const SceneModel& model, std::shared_ptr<const Sur
                               ros::Time epoch) {
   epoch_ = epoch;
   path_pubs_.clear();
-  for (const DeviceModel& d : model.devices)
+  detached_path_pubs_.clear();
+  for (const DeviceModel& d : model.devices) {
     path_pubs_.push_back(nh_.advertise<nav_msgs::Path>("devices/" + d.name + "/path", 1));
+    // A device that can detach (a coil on its pusher): the detached part's
+    // own path, empty until the detach.
+    detached_path_pubs_.push_back(
+        d.detach_element >= 0
+            ? nh_.advertise<nav_msgs::Path>("devices/" + d.name + "/detached_path", 1)
+            : ros::Publisher());
+  }
   mesh_ = std::move(mesh);
   last_mesh_time_ = -1.0;
   last_tf_time_ = -1.0;
@@ -71,8 +79,11 @@ void FramePublisher::publish(const FrameSnapshot& f, const LoopTiming& timing, i
   stats_pub_.publish(toStepStatsMsg(f, timing, header));
   contacts_pub_.publish(toContactArrayMsg(f, header));
   states_pub_.publish(toDeviceStatusMsg(f, driven, header));
-  for (size_t i = 0; i < path_pubs_.size() && i < f.devices.size(); ++i)
+  for (size_t i = 0; i < path_pubs_.size() && i < f.devices.size(); ++i) {
     path_pubs_[i].publish(toPathMsg(f.devices[i], header));
+    if (detached_path_pubs_[i])
+      detached_path_pubs_[i].publish(toDetachedPathMsg(f.devices[i], header));
+  }
   if (markers_pub_.getNumSubscribers() > 0) markers_pub_.publish(sceneMarkers(f, style_, header));
   publishTransforms(f, header);
   publishVesselMesh(f, header);

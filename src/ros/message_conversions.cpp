@@ -1,5 +1,7 @@
 #include "endovascular_sim/ros/message_conversions.h"
 
+#include <algorithm>
+
 namespace evsim {
 
 namespace {
@@ -108,15 +110,34 @@ endovascular_sim::DeviceStatusArray toDeviceStatusMsg(const FrameSnapshot& f, in
   return m;
 }
 
-nav_msgs::Path toPathMsg(const DeviceState& device, const std_msgs::Header& header) {
+namespace {
+
+/// Nodes [first, last) of a device as a path.
+nav_msgs::Path pathOfNodes(const DeviceState& device, size_t first, size_t last,
+                           const std_msgs::Header& header) {
   nav_msgs::Path path;
   path.header = header;
-  path.poses.resize(device.position.size());
-  for (size_t n = 0; n < device.position.size(); ++n) {
-    path.poses[n].header = header;
-    path.poses[n].pose = toPose(device.position[n], device.rotation[n]);
+  for (size_t n = first; n < last; ++n) {
+    path.poses.emplace_back();
+    path.poses.back().header = header;
+    path.poses.back().pose = toPose(device.position[n], device.rotation[n]);
   }
   return path;
+}
+
+}  // namespace
+
+nav_msgs::Path toPathMsg(const DeviceState& device, const std_msgs::Header& header) {
+  const size_t nodes = device.position.size();
+  const size_t end = device.cut_element >= 0 ? static_cast<size_t>(device.cut_element) + 1 : nodes;
+  return pathOfNodes(device, 0, std::min(end, nodes), header);
+}
+
+nav_msgs::Path toDetachedPathMsg(const DeviceState& device, const std_msgs::Header& header) {
+  const size_t nodes = device.position.size();
+  const size_t first =
+      device.cut_element >= 0 ? static_cast<size_t>(device.cut_element) + 1 : nodes;
+  return pathOfNodes(device, std::min(first, nodes), nodes, header);
 }
 
 }  // namespace evsim

@@ -1,5 +1,6 @@
-// Contacts as the node publishes them: every field of the core's contact,
-// the friction force and the lumen flag included.
+// Messages as the node publishes them: every field of the core's contact,
+// the friction force and the lumen flag included; device paths split at a
+// detach.
 #include "endovascular_sim/ros/message_conversions.h"
 
 #include <gtest/gtest.h>
@@ -58,6 +59,26 @@ TEST(SceneMarkers, ADetachedCoilsTubeIsOpenAtTheCut) {
   EXPECT_EQ(tubeTriangles(sceneMarkers(frame, style, {}), 1), (nodes - 1) * per_element);
   frame.devices[1].cut_element = frame.model->devices[1].detach_element;
   EXPECT_EQ(tubeTriangles(sceneMarkers(frame, style, {}), 1), (nodes - 2) * per_element);
+}
+
+/// After a detach the pusher's path stops at the cut and the coil has its
+/// own: neither runs across the cut element (nodes 2 -> 3 here).
+TEST(PathMessage, ADetachedDeviceHasTwoPathsSplitAtTheCut) {
+  DeviceState d;
+  for (int i = 0; i < 5; ++i) {
+    d.position.push_back(Vec3(0.001 * i, 0.0, 0.0));
+    d.rotation.push_back(Quat::Identity());
+  }
+  const std_msgs::Header header;
+  EXPECT_EQ(toPathMsg(d, header).poses.size(), 5u);
+  EXPECT_TRUE(toDetachedPathMsg(d, header).poses.empty());
+  d.cut_element = 2;
+  const nav_msgs::Path pusher = toPathMsg(d, header), coil = toDetachedPathMsg(d, header);
+  ASSERT_EQ(pusher.poses.size(), 3u);
+  ASSERT_EQ(coil.poses.size(), 2u);
+  EXPECT_DOUBLE_EQ(pusher.poses.back().pose.position.x, 0.002);
+  EXPECT_DOUBLE_EQ(coil.poses.front().pose.position.x, 0.003);
+  EXPECT_DOUBLE_EQ(coil.poses.back().pose.position.x, 0.004);
 }
 
 }  // namespace

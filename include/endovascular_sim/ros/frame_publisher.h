@@ -52,6 +52,7 @@ class FramePublisher {
   ros::Publisher stats_pub_, contacts_pub_, states_pub_, markers_pub_, vessels_pub_,
       diagnostics_pub_;
   std::vector<ros::Publisher> path_pubs_;
+  std::vector<ros::Publisher> detached_path_pubs_;  // empty publisher: the device cannot detach
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   std::shared_ptr<const SurfaceMesh> mesh_;
   double last_mesh_time_{-1.0};  // simulated time of the last published mesh [s]

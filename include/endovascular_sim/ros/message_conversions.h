@@ -27,7 +27,11 @@ endovascular_sim::ContactArray toContactArrayMsg(const FrameSnapshot& frame,
 /// driven: index of the device the joystick drives.
 endovascular_sim::DeviceStatusArray toDeviceStatusMsg(const FrameSnapshot& frame, int driven,
                                                       const std_msgs::Header& header);
-/// The node poses of one device, proximal to distal.
+/// The node poses of one device, proximal to distal; after a detach, up to
+/// the cut only (the pusher: nodes 0 ... cut_element).
 nav_msgs::Path toPathMsg(const DeviceState& device, const std_msgs::Header& header);
+/// After a detach, the detached part's node poses (cut_element + 1 ... the
+/// tip); before it, an empty path.
+nav_msgs::Path toDetachedPathMsg(const DeviceState& device, const std_msgs::Header& header);
 
 }  // namespace evsim
