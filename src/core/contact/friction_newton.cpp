@@ -61,8 +61,8 @@ AcBlock alartCurnier(const Vec3& r, const Vec3& u, double mu, double rho_n, doub
 
 class NewtonSolver {
  public:
-  NewtonSolver(const MatX& W, const VecX& q, const VecX& mu, double eps)
-      : W_(W), q_(q), mu_(mu), c_(static_cast<int>(mu.size())), D_(c_) {
+  NewtonSolver(const MatX& W, const VecX& mu, double eps)
+      : W_(W), mu_(mu), c_(static_cast<int>(mu.size())), D_(c_) {
     // The Jacobian of sticking contacts is rho W: singular for redundant
     // contacts (a thread wrapped on a cylinder: cond W ~ 1e17). The step is
     // taken with W + shift I (shift = 1e-8 max diag W), which bounds it; phi
@@ -123,7 +123,6 @@ class NewtonSolver {
 
  private:
   const MatX& W_;
-  const VecX& q_;
   const VecX& mu_;
   int c_;
   double shift_{0.0};
@@ -136,7 +135,7 @@ class NewtonSolver {
 LcpStatus solveNewton(const MatX& W, const VecX& q, const VecX& mu, const std::vector<Mat3>& block,
                       double eps, int max_steps, double tolerance, VecX* r, FrictionStats* st) {
   const int n = static_cast<int>(q.size());
-  NewtonSolver newton(W, q, mu, eps);
+  NewtonSolver newton(W, mu, eps);
   VecX u(n), phi(n), trial(n), trial_u(n), trial_phi(n);
   std::deque<double> recent;  // |phi|^2 of the last kMemory iterates
   for (int k = 0;; ++k) {
