@@ -1,6 +1,7 @@
 // Contacts against analytic answers and Signorini's law on the shipped scenes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "endovascular_sim/contact/contact_solver.h"
@@ -122,12 +123,68 @@ TEST(ContactOptions, OutOfRangeAreRefused) {
   o = ContactOptions{};
   o.max_subdivisions = 40;
   EXPECT_NE(validateContactOptions(o).find("max_subdivisions"), std::string::npos);
+  o = ContactOptions{};
+  o.curvature_loops = 0;
+  EXPECT_NE(validateContactOptions(o).find("curvature_loops"), std::string::npos);
 }
 
-/// A wire whose free part lies beyond every vessel's support, where the
-/// field is flat (g = -T, no gradient, no projection): it is beyond the
-/// wall, and the step says so instead of accepting it (it used to count as
-/// 0 m deep).
+/// A wire lying just beyond the wall of a tube (within the tolerance band)
+/// and thrown across it: its free motion ends beyond the far
+/// wall, beyond every vessel's support (a flat field, no projection). The
+/// plane is where the path leaves the lumen through the far wall; the plane
+/// of the near wall where the wire starts would hold nothing (it used to be
+/// added again in every loop until the step failed; 'tortuous' did so at a
+/// J-tip squeezed against a wall).
+TEST(Contact, APointThrownAcrossTheLumenGetsTheFarWall) {
+  SceneModel m;
+  m.time_step = 1e-3;
+  Centerline c;  // a 20 mm vessel of radius 2 mm along x
+  for (int i = 0; i <= 4; ++i) {
+    c.position.push_back(Vec3(0.005 * i, 0.0, 0.0));
+    c.radius.push_back(2e-3);
+    c.parent.push_back(i - 1);
+    c.type.push_back(0);
+  }
+  auto vessels = std::make_shared<const VesselField>(
+      c, std::vector<AneurysmSpec>{}, std::vector<MotionRegion>{}, VesselFieldOptions{});
+  m.vessels = vessels;
+  m.surface = vessels;
+  const double r = 2e-4;
+  DeviceSpec spec = straightDeviceSpec("wire", test::wireSection(60e9, r), 0.012, 12);
+  m.devices.push_back(buildDeviceModel(spec));
+  // The wall below the axis at x = 10 mm, by bisection on g.
+  double inside = 0.0, outside = -5e-3;
+  for (int k = 0; k < 60; ++k) {
+    const double y = 0.5 * (inside + outside);
+    (vessels->evaluate(Vec3(0.01, y, 0.0), r).value > 0.0 ? inside : outside) = y;
+  }
+  Introducer intro;
+  intro.access_point = Vec3(0.004, outside - 0.5e-6, 0.0);  // 0.5 um beyond the wall
+  m.introducers.push_back(intro);
+  m.initial_inserted_length.push_back(m.devices[0].length);  // all of it free
+  m.initial_rotation.push_back(0.0);
+  m.samples.push_back(sampleDevice(m.devices[0], m.contact.contact_spacing));
+  SimData d = makeData(m);
+  // Across the tube [m/s]: the wire, held at its proximal node, is a
+  // cantilever of about 130 N/m at its tip; this throws it some 0.1 m.
+  for (Vec3& v : d.devices[0].velocity) v = Vec3(0.0, 2000.0, 0.0);
+  const Vec3 thrown = Vec3(0.01, 0.02, 0.0);
+  ASSERT_EQ(vessels->evaluate(thrown, r).gradient.norm(), 0.0);  // flat: beyond the support
+  ASSERT_EQ(step(m, &d), StepStatus::kOk) << d.last_error;
+  double deepest = 0.0, highest = -1.0;
+  for (const Vec3& p : d.devices[0].position) {
+    const FieldSample g = vessels->evaluate(p, r);
+    ASSERT_GT(g.gradient.norm(), 0.0) << p.transpose();
+    deepest = std::max(deepest, -g.value / g.gradient.norm());
+    highest = std::max(highest, p.y());
+  }
+  std::printf(
+      "[ metric   ] thrown across the lumen: deepest %.3g m beyond the wall, highest y %.4g m\n",
+      deepest, highest);
+  EXPECT_LE(deepest, 1.01 * m.contact.penetration_tolerance);
+  EXPECT_GT(highest, 0.0);  // it crossed the axis: held by the far wall, not the near one
+}
+
 TEST(Contact, APointBeyondEveryVesselsSupportIsBeyondTheWall) {
   SceneModel m;
   m.time_step = 1e-3;

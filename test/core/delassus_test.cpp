@@ -111,6 +111,39 @@ TEST(ChainInverse, ReportsAnIndefiniteMatrix) {
   EXPECT_TRUE(inverse.compute(A, 6));  // the indefinite block is held
 }
 
+/// After a loop of the contact solver, some rows change (a plane updated)
+/// and new ones come (new contacts); the update copies the entries between
+/// unchanged rows and computes the rest. It must equal the dense operator
+/// of the new rows, and using a stale entry must show.
+TEST(ChainDelassus, AnUpdateAfterSomeRowsChangedMatchesTheDenseOperator) {
+  std::mt19937 rng(17);
+  const ChainMatrix A = randomSpdChain(40, &rng);
+  const int first = 4, nb = 36, n = 6 * nb;
+  ChainInverse inverse;
+  ASSERT_TRUE(inverse.compute(A, first));
+  const std::vector<ContactRow> before = rowsOfEveryKind(nb, &rng);
+  MatX W_before;
+  chainDelassusOperator(inverse, before, &W_before);
+  std::vector<ContactRow> after = before;
+  std::vector<char> changed(before.size(), 0);
+  for (int r : {2, 17, 26, 28}) {  // singles and self contacts
+    for (int part = 0; part < after[r].parts; ++part) after[r].h[part] = randomRow(&rng);
+    changed[r] = 1;
+  }
+  const std::vector<ContactRow> more = rowsOfEveryKind(nb, &rng);
+  after.insert(after.end(), more.begin(), more.begin() + 6);  // new rows
+  MatX W;
+  updateChainDelassusOperator(inverse, after, changed, W_before, &W);
+  const MatX H = denseH(after, n);
+  const MatX dense = H * A.toDense().bottomRightCorner(n, n).llt().solve(H.transpose());
+  EXPECT_LT((W - dense).norm(), 1e-12 * dense.norm());
+  EXPECT_EQ(W, W.transpose());
+  changed[17] = 0;  // a changed row taken as unchanged: its old entries stay
+  MatX stale;
+  updateChainDelassusOperator(inverse, after, changed, W_before, &stale);
+  EXPECT_GT((stale - dense).norm(), 1e-3 * dense.norm());
+}
+
 TEST(ChainDelassus, MatchesDenseAndBlockSolveForEveryKindOfRow) {
   std::mt19937 rng(11);
   const ChainMatrix A = randomSpdChain(40, &rng);

@@ -52,6 +52,7 @@ struct ContactOptions {
   bool device_contact{false};          // effect 'device_contact': pairs of device points
   bool friction{false};                // effect 'friction': Coulomb friction (NSGS)
   bool wall_curvature{true};           // the wall's curvature in A (contact/wall_curvature.h)
+  int curvature_loops{1000};           // loops that update C (then A + C and its band are kept)
   FrictionOptions friction_solver;     // its tolerance and sweep limit
 };
 

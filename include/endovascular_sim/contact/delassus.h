@@ -41,6 +41,15 @@ void delassusOperator(SparseCholesky& cholesky, const std::vector<ContactRow>& r
 void chainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
                            MatX* W);
 
+/// The same W after some rows changed, the inverse unchanged: `previous` is
+/// the operator of the first previous.rows() rows; of those, the rows with
+/// fresh_rows[i] != 0 changed (rows beyond are new). Entries between two
+/// unchanged rows are copied; only the others are computed (O(n + c k) for
+/// k changed rows, against O(n + c^2)).
+void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
+                                 const std::vector<char>& fresh_rows, const MatX& previous,
+                                 MatX* W);
+
 /// H^T lambda over the free DOFs (n): the generalised force of the rows.
 VecX contactForce(int n, const std::vector<ContactRow>& rows, const VecX& lambda);
 

@@ -1,5 +1,6 @@
 #include "endovascular_sim/contact/contact_solver.h"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -8,7 +9,6 @@
 #include <limits>
 #include <map>
 #include <sstream>
-#include <unordered_map>
 
 #include "endovascular_sim/contact/coaxial.h"
 #include "endovascular_sim/contact/delassus.h"
@@ -57,20 +57,89 @@ bool detached(const DeviceState& x, const SamplePoint& s) {
   return x.cut_element >= 0 && s.element > x.cut_element;
 }
 
-/// Where a point's straight path p0 -> p, from inside to inside, left its
+/// Moves a point within the tolerance band beyond the wall (g < 0) to just
+/// inside, at its projection plus 0.1 um along the normal, with its field
+/// sample; false when that fails (no projection). A point inside stays.
+bool justInside(const ImplicitSurface& surface, double radius, const MotionSnapshot& motion,
+                const RootOptions& root, Vec3* p, FieldSample* g) {
+  if (g->value >= 0.0) return true;
+  constexpr double kJustInside = 1e-7;  // [m], well within the 1 um contact tolerance
+  const SurfacePoint wall = projectToSurface(surface, *p, radius, motion, 0.01, root);
+  if (!wall.hit) return false;
+  *p = wall.point + kJustInside * wall.normal;
+  *g = surface.evaluate(*p, radius, motion);
+  return g->value > 0.0;
+}
+
+/// Where a point's straight path p0 -> p, from inside (or the tolerance
+/// band beyond the wall) to inside (or the band), left its
 /// lumen through a wall into another lumen (hit false when it did not). The
-/// path counts as tunnelling only when the wall where it re-enters faces the
-/// other way (opposite normals): a chord that grazes a convex wall (a point
-/// sliding around the inner side of a bend) leaves and re-enters the same
-/// wall, with nearly equal normals, and is not a tunnel.
+/// path counts as tunnelling, between two points inside, when the wall where
+/// it re-enters faces the other way (opposite normals): a chord that grazes
+/// a convex wall (a point sliding around the inner side of a bend) leaves
+/// and re-enters the same wall, with nearly equal normals, and is not a
+/// tunnel. From or to the band, when the chord runs more than 1 mm deep.
 SurfacePoint tunnelExit(const ImplicitSurface& surface, const Vec3& p0, const FieldSample& g0,
                         const Vec3& p, const FieldSample& g, double radius,
                         const MotionSnapshot& motion, const RootOptions& root) {
-  const SurfacePoint exit = firstRootFrom(surface, p0, g0, p, radius, motion, root);
+  // An end within the tolerance band beyond the wall counts from just
+  // inside, at its projection: else a path through the tissue from or to
+  // there would never count (step 1,871 of 'tortuous' took the J-tip 12 mm
+  // across a hairpin so, from the band to the band).
+  Vec3 from = p0, to = p;
+  FieldSample g_from = g0, g_to = g;
+  if (!justInside(surface, radius, motion, root, &from, &g_from) ||
+      !justInside(surface, radius, motion, root, &to, &g_to))
+    return {};
+  const SurfacePoint exit = firstRootFrom(surface, from, g_from, to, radius, motion, root);
   if (!exit.hit || exit.started_outside) return {};
-  const SurfacePoint entry = firstRootFrom(surface, p, g, p0, radius, motion, root);
-  if (!entry.hit || entry.started_outside || exit.normal.dot(entry.normal) >= 0.0) return {};
-  return exit;
+  const SurfacePoint entry = firstRootFrom(surface, to, g_to, from, radius, motion, root);
+  if (!entry.hit || entry.started_outside) return {};
+  // Between two points inside: a tunnel when the walls face each other.
+  if (g0.value >= 0.0 && g.value >= 0.0)
+    return exit.normal.dot(entry.normal) < 0.0 ? exit : SurfacePoint{};
+  // From or to the band (a point pressed against a wall): when the chord
+  // runs deep in the tissue, at its middle more than kTissue beyond the
+  // wall (the J-tip's chord across a hairpin whose legs lie in different
+  // planes: walls at an angle). Pressed coil points swinging across an
+  // aneurysm's neck in the loop's iterates cut its rim by 0.3-0.5 mm
+  // (chords 1-2 mm outside, walls facing each other) and come back in later
+  // loops; counting them ran 'aneurysm' out of loops.
+  constexpr double kTissue = 1e-3;  // [m]
+  const FieldSample middle = surface.evaluate(0.5 * (exit.point + entry.point), radius, motion);
+  const double slope = middle.gradient.norm();
+  const bool deep = middle.value < 0.0 && (slope == 0.0 || -middle.value / slope > kTissue);
+  return deep ? exit : SurfacePoint{};
+}
+
+/// Where the straight path p0 -> p, starting beyond the wall, leaves the
+/// lumen after it first enters it (hit false when it never enters), from
+/// the first of 32 points along it that lies inside.
+SurfacePoint farExit(const ImplicitSurface& surface, const Vec3& p0, const Vec3& p, double radius,
+                     const MotionSnapshot& motion, const RootOptions& root) {
+  constexpr int kProbes = 32;
+  for (int i = 1; i < kProbes; ++i) {
+    const Vec3 q = p0 + (static_cast<double>(i) / kProbes) * (p - p0);
+    const FieldSample g = surface.evaluate(q, radius, motion);
+    if (g.value > 0.0) return firstRootFrom(surface, q, g, p, radius, motion, root);
+  }
+  return {};
+}
+
+/// The wall nearest to where the straight path p0 -> p, outside the lumen
+/// throughout, leaves the vessels' support: the projection of the last of
+/// 32 points along it within the support (p0's when none is; hit false when
+/// even that has no projection).
+SurfacePoint lastWallAlong(const ImplicitSurface& surface, const Vec3& p0, const Vec3& p,
+                           double radius, const MotionSnapshot& motion, const RootOptions& root) {
+  constexpr int kProbes = 32;
+  for (int i = 1; i < kProbes; ++i) {
+    const Vec3 q = p + (static_cast<double>(i) / kProbes) * (p0 - p);
+    if (surface.evaluate(q, radius, motion).gradient.norm() == 0.0) continue;
+    const SurfacePoint wall = projectToSurface(surface, q, radius, motion, 0.01, root);
+    if (wall.hit) return wall;
+  }
+  return projectToSurface(surface, p0, radius, motion, 0.01, root);
 }
 
 /// Depth beyond the surface [m] (0 inside), from g / |grad g|.
@@ -206,52 +275,93 @@ Contact lumenContact(const LumenViolation& v, int outer) {
 }
 
 /// Pairs of points, at least one of them free, closer than the sum of their
-/// radii plus `margin`, from a hash of cells. On one device only points more than 2 (r_a + r_b)
-/// plus two element lengths apart along it count (neighbours along a device always touch). Per pair
+/// radii plus `margin`, from a grid of cells (sorted keys, no hashing). On
+/// one device only points more than 2 (r_a + r_b) plus two element lengths
+/// apart along it count (neighbours along a device always touch). Per pair
 /// of elements the closest pair only.
 std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
                             const std::vector<PointRef>& pts, double margin) {
   double rmax = 0.0;
   for (const auto& q : pts) rmax = std::max(rmax, q.r);
   const double cell = 2.0 * rmax + margin;
-  auto cellKey = [cell](const Vec3& p, int dx, int dy, int dz) {
-    const int64_t x = static_cast<int64_t>(std::floor(p.x() / cell)) + dx + (1 << 20);
-    const int64_t y = static_cast<int64_t>(std::floor(p.y() / cell)) + dy + (1 << 20);
-    const int64_t z = static_cast<int64_t>(std::floor(p.z() / cell)) + dz + (1 << 20);
-    return x << 42 | y << 21 | z;
+  // Cell key (z, y, x), x least significant: the points sorted by key lie
+  // row by row ((z, y) fixed), each row in x order. A hash of the rows
+  // (open addressing) gives each row's range; the neighbours of a point are
+  // in 9 rows, at x - 1 ... x + 1.
+  auto cellOf = [cell](double v) { return static_cast<int64_t>(std::floor(v / cell)) + (1 << 20); };
+  const int n = static_cast<int>(pts.size());
+  std::vector<std::pair<int64_t, int>> sorted(n);  // (cell key, point)
+  for (int i = 0; i < n; ++i)
+    sorted[i] = {cellOf(pts[i].p.z()) << 42 | cellOf(pts[i].p.y()) << 21 | cellOf(pts[i].p.x()), i};
+  std::sort(sorted.begin(), sorted.end());
+  int bits = 4;
+  while ((1 << bits) < 2 * n) ++bits;
+  const uint64_t mask = (uint64_t{1} << bits) - 1;
+  struct Row {
+    int64_t key{-1};  // (z, y)
+    int begin{0}, end{0};
   };
-  std::unordered_map<int64_t, std::vector<int>> grid;
-  for (int i = 0; i < static_cast<int>(pts.size()); ++i)
-    grid[cellKey(pts[i].p, 0, 0, 0)].push_back(i);
-  std::map<std::array<int, 4>, Pair> best;  // (device a, element a, device b, element b)
-  for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
-    const PointRef& a = pts[i];
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const auto it = grid.find(cellKey(a.p, dx, dy, dz));
-          if (it == grid.end()) continue;
-          for (int j : it->second) {
-            if (j <= i) continue;
-            const PointRef& b = pts[j];
-            if (!a.free && !b.free) continue;
-            if (a.in_lumen_of == b.device || b.in_lumen_of == a.device) continue;
-            const double dist = (a.p - b.p).norm();
-            if (dist >= a.r + b.r + margin || dist == 0.0) continue;
-            if (a.device == b.device) {
-              const double along = std::abs(a.s - b.s);
-              const double le = std::max(devices[a.device].elements[a.element].length,
-                                         devices[b.device].elements[b.element].length);
-              if (along <= 2.0 * (a.r + b.r) + 2.0 * le) continue;
-            }
-            const std::array<int, 4> k{a.device, a.element, b.device, b.element};
-            const auto found = best.find(k);
-            if (found == best.end() || dist < found->second.distance) best[k] = {i, j, dist};
-          }
-        }
+  std::vector<Row> rows(mask + 1);
+  auto slot = [&](int64_t row_key) {
+    uint64_t h = (static_cast<uint64_t>(row_key) * 0x9E3779B97F4A7C15ull) >> (64 - bits);
+    while (rows[h].key != -1 && rows[h].key != row_key) h = (h + 1) & mask;
+    return h;
+  };
+  for (int k = 0; k < n;) {
+    const int64_t row_key = sorted[k].first >> 21;
+    int e = k;
+    while (e < n && (sorted[e].first >> 21) == row_key) ++e;
+    rows[slot(row_key)] = {row_key, k, e};
+    k = e;
   }
+  struct Candidate {
+    int64_t elements;  // (device a, element a, device b, element b) packed
+    double distance;
+    int a, b;
+  };
+  std::vector<Candidate> found;
+  for (int i = 0; i < n; ++i) {
+    const PointRef& a = pts[i];
+    const int64_t x = cellOf(a.p.x()), y = cellOf(a.p.y()), z = cellOf(a.p.z());
+    for (int64_t dz = -1; dz <= 1; ++dz)
+      for (int64_t dy = -1; dy <= 1; ++dy) {
+        const Row& row = rows[slot((z + dz) << 21 | (y + dy))];
+        if (row.key == -1) continue;
+        for (int k = row.begin; k < row.end; ++k) {
+          const int64_t xb = sorted[k].first & ((int64_t{1} << 21) - 1);
+          if (xb < x - 1) continue;
+          if (xb > x + 1) break;
+          const int j = sorted[k].second;
+          if (j <= i) continue;
+          const PointRef& b = pts[j];
+          if (!a.free && !b.free) continue;
+          if (a.in_lumen_of == b.device || b.in_lumen_of == a.device) continue;
+          const double dist = (a.p - b.p).norm();
+          if (dist >= a.r + b.r + margin || dist == 0.0) continue;
+          if (a.device == b.device) {
+            const double along = std::abs(a.s - b.s);
+            const double le = std::max(devices[a.device].elements[a.element].length,
+                                       devices[b.device].elements[b.element].length);
+            if (along <= 2.0 * (a.r + b.r) + 2.0 * le) continue;
+          }
+          const int64_t elements = static_cast<int64_t>(a.device) << 52 |
+                                   static_cast<int64_t>(a.element) << 32 |
+                                   static_cast<int64_t>(b.device) << 20 | b.element;
+          found.push_back({elements, dist, i, j});
+        }
+      }
+  }
+  // Per pair of elements the closest (the first index pair on ties, as a
+  // scan in index order would keep).
+  std::sort(found.begin(), found.end(), [](const Candidate& x, const Candidate& y) {
+    if (x.elements != y.elements) return x.elements < y.elements;
+    if (x.distance != y.distance) return x.distance < y.distance;
+    return x.a != y.a ? x.a < y.a : x.b < y.b;
+  });
   std::vector<Pair> out;
-  for (const auto& kv : best) out.push_back(kv.second);
+  for (size_t k = 0; k < found.size(); ++k)
+    if (k == 0 || found[k].elements != found[k - 1].elements)
+      out.push_back({found[k].a, found[k].b, found[k].distance});
   return out;
 }
 
@@ -319,6 +429,8 @@ std::string validateContactOptions(const ContactOptions& o) {
     why << "lcp regularization must lie in [0, 1e-3]";
   else if (o.max_activation_loops < 1 || o.max_activation_loops > 1000)
     why << "max_activation_loops must lie in [1, 1000]";
+  else if (o.curvature_loops < 1 || o.curvature_loops > 1000)
+    why << "curvature_loops must lie in [1, 1000]";
   else if (o.max_subdivisions < 0 || o.max_subdivisions > 12)
     why << "max_subdivisions must lie in [0, 12]";
   else if (!(o.contact_spacing >= 1e-5 && o.contact_spacing <= 0.05))
@@ -334,18 +446,26 @@ std::string validateContactOptions(const ContactOptions& o) {
   return why.str();
 }
 
-/// Adds C (contact/wall_curvature.h) of the wall contacts with a force to
-/// each device's A, factorises A + C and sets (*dq_step)[d] to the QP step's
-/// free motion (A + C)^-1 (A dq_free + C dq_k) about the iterate dq; devices
-/// without such contacts keep A and dq_free.
-void addWallCurvature(const ContactProblem& pb, const std::vector<Contact>& contacts,
-                      const std::vector<DeviceState>& x, const std::vector<VecX>& dq,
-                      std::vector<VecX>* dq_step, std::vector<SparseCholesky*>* factor) {
+/// True when two rows of H are the same (parts, offsets, coefficients).
+bool sameRow(const ContactRow& a, const ContactRow& b) {
+  if (a.parts != b.parts) return false;
+  for (int k = 0; k < a.parts; ++k)
+    if (a.offset[k] != b.offset[k] || a.h[k] != b.h[k]) return false;
+  return true;
+}
+
+/// C (contact/wall_curvature.h) of the wall contacts with a force, per
+/// device; A + C factorised into the workspace's `curved` factor and system.
+/// (*curved)[d] says whether device d has such a term (else A alone).
+void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& contacts,
+                         const std::vector<DeviceState>& x, std::vector<ChainMatrix>* C,
+                         std::vector<char>* curved) {
   const auto& devices = *pb.devices;
   auto& ws = *pb.workspaces;
   const auto& samples = *pb.samples;
   const size_t nd = devices.size();
-  std::vector<ChainMatrix> C(nd);
+  C->assign(nd, ChainMatrix());
+  curved->assign(nd, 0);
   for (const Contact& ct : contacts) {
     if (ct.other_device >= 0 || !(ct.force > 0.0)) continue;
     const int d = ct.device;
@@ -360,31 +480,46 @@ void addWallCurvature(const ContactProblem& pb, const std::vector<Contact>& cont
     R.row(0) = contactRow(devices[d], x[d], s, t[0]);
     R.row(1) = contactRow(devices[d], x[d], s, t[1]);
     const Eigen::Matrix<double, 12, 12> Ce = ct.force * R.transpose() * S * R;
-    if (C[d].numBlocks() == 0) {
-      C[d].resize(devices[d].num_nodes);
-      C[d].setZero();
+    ChainMatrix& Cd = (*C)[d];
+    if (Cd.numBlocks() == 0) {
+      Cd.resize(devices[d].num_nodes);
+      Cd.setZero();
     }
-    C[d].diag[e] += Ce.topLeftCorner<6, 6>();
-    C[d].diag[e + 1] += Ce.bottomRightCorner<6, 6>();
-    C[d].upper[e] += Ce.topRightCorner<6, 6>();
+    Cd.diag[e] += Ce.topLeftCorner<6, 6>();
+    Cd.diag[e + 1] += Ce.bottomRightCorner<6, 6>();
+    Cd.upper[e] += Ce.topRightCorner<6, 6>();
   }
   for (size_t d = 0; d < nd; ++d) {
     DeviceWorkspace& w = ws[d];
-    const int n = w.cholesky.size(), held = 6 * w.first_free_node;
-    if (C[d].numBlocks() == 0 || n == 0) continue;
+    const int n = w.cholesky.size();
+    if ((*C)[d].numBlocks() == 0 || n == 0) continue;
     ChainMatrix& Ac = w.curved_system;  // storage kept across loops and steps
     Ac = w.system;
     for (int i = 0; i < Ac.numBlocks(); ++i) {
-      Ac.diag[i] += C[d].diag[i];
-      if (i + 1 < Ac.numBlocks()) Ac.upper[i] += C[d].upper[i];
+      Ac.diag[i] += (*C)[d].diag[i];
+      if (i + 1 < Ac.numBlocks()) Ac.upper[i] += (*C)[d].upper[i];
     }
     if (w.curved_size != n) {
       w.curved.analyze(w.pattern.size, w.pattern.col_ptr, w.pattern.row_idx);
       w.curved_size = n;
     }
     w.pattern.gather(Ac, &w.curved_values);
-    if (!w.curved.factorize(w.curved_values))
-      continue;  // keep A (C is positive: should not happen)
+    // (C is positive semi-definite, so this should not fail; if it does, A.)
+    (*curved)[d] = w.curved.factorize(w.curved_values) ? 1 : 0;
+  }
+}
+
+/// The QP step's free motion about the iterate dq for the devices with a
+/// curvature term: (*dq_step)[d] = (A + C)^-1 (A dq_free + C dq_k), and
+/// their factor that of A + C. Others keep A and dq_free.
+void curvedFreeMotion(const ContactProblem& pb, const std::vector<ChainMatrix>& C,
+                      const std::vector<char>& curved, const std::vector<VecX>& dq,
+                      std::vector<VecX>* dq_step, std::vector<SparseCholesky*>* factor) {
+  auto& ws = *pb.workspaces;
+  for (size_t d = 0; d < curved.size(); ++d) {
+    if (!curved[d]) continue;
+    DeviceWorkspace& w = ws[d];
+    const int n = w.cholesky.size(), held = 6 * w.first_free_node;
     VecX free = (*dq_step)[d], iterate = dq[d];
     free.head(held).setZero();
     iterate.head(held).setZero();
@@ -538,7 +673,15 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   std::vector<std::array<Vec3, 2>> tangents;  // per contact with friction: t1, t2
   std::vector<DeviceState> x = xf;
   std::vector<char> updated(contacts->size(), 0);  // plane already updated in this step
-  std::vector<char> inverse_of_A(nd, 0);           // ws[d].inverse holds the band of A^-1
+  // What ws[d].inverse holds: nothing valid, the band of A^-1, of (A + C)^-1.
+  enum class Band { kNone, kOfA, kOfCurved };
+  std::vector<Band> band(nd, Band::kNone);
+  std::vector<ChainMatrix> curvature;  // C per device, kept once no longer updated
+  // Per device the rows and W of the last loop that used the band (reused
+  // while the band stays).
+  std::vector<std::vector<ContactRow>> last_rows(nd);
+  std::vector<MatX> last_W(nd);
+  std::vector<char> curved(nd, 0);  // device d steps with A + C
   for (int loop = 1; loop <= o.max_activation_loops && !solved; ++loop) {
     st->activation_loops = loop;
     const int c = static_cast<int>(contacts->size());
@@ -550,7 +693,17 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     std::vector<SparseCholesky*> factor(nd);
     std::vector<VecX> dq_step = dq_free;
     for (size_t d = 0; d < nd; ++d) factor[d] = &ws[d].cholesky;
-    if (o.wall_curvature && pb.surface) addWallCurvature(pb, *contacts, x, dq, &dq_step, &factor);
+    if (o.wall_curvature && pb.surface) {
+      // C from the last loop's forces for the first curvature_loops loops;
+      // later loops keep it (and the band of (A + C)^-1): at the answer
+      // dq = dq_k, so C shapes the path, not the step's solution.
+      if (loop <= o.curvature_loops) {
+        factorWallCurvature(pb, *contacts, x, &curvature, &curved);
+        for (size_t d = 0; d < nd; ++d)
+          if (band[d] == Band::kOfCurved) band[d] = Band::kNone;
+      }
+      curvedFreeMotion(pb, curvature, curved, dq, &dq_step, &factor);
+    }
     st->curvature_ms += msSince(t0);
 
     // --- Delassus operator W = H A^-1 H^T, q = H x_f - delta ---------------
@@ -633,19 +786,29 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       if (static_cast<int>(device_rows.size()) < kChainDelassusMinRows) {
         delassusOperator(*factor[d], device_rows, &Y[d], &Wd);
       } else {
-        // The band of (A + C)^-1 each loop with curvature, of A once a step.
-        const bool curved = factor[d] != &ws[d].cholesky;
-        if (curved || !inverse_of_A[d]) {
-          const ChainMatrix& A = curved ? ws[d].curved_system : ws[d].system;
+        // The band of (A + C)^-1 whenever C changed, of A once a step.
+        const Band wanted = curved[d] ? Band::kOfCurved : Band::kOfA;
+        if (band[d] != wanted) {
+          const ChainMatrix& A = curved[d] ? ws[d].curved_system : ws[d].system;
           if (!ws[d].inverse.compute(A, ws[d].first_free_node)) return false;
-          inverse_of_A[d] = !curved;
+          band[d] = wanted;
+          last_rows[d].clear();  // nothing to reuse
+          last_W[d].resize(0, 0);
         }
         Y[d].resize(0, 0);
-        chainDelassusOperator(ws[d].inverse, device_rows, &Wd);
+        // Rows unchanged since the last loop (same normal, and for a sample
+        // at a node no tangent term) keep their entries among themselves.
+        const std::vector<ContactRow>& before = last_rows[d];
+        std::vector<char> changed(before.size(), 1);
+        for (size_t r = 0; r < before.size() && r < device_rows.size(); ++r)
+          changed[r] = !sameRow(before[r], device_rows[r]);
+        updateChainDelassusOperator(ws[d].inverse, device_rows, changed, last_W[d], &Wd);
+        last_rows[d] = device_rows;
+        last_W[d] = Wd;
       }
       const auto& idx = of_device[d];
-      for (size_t a = 0; a < idx.size(); ++a)
-        for (size_t b = 0; b < idx.size(); ++b) W(idx[a], idx[b]) += Wd(a, b);
+      for (size_t b = 0; b < idx.size(); ++b)  // column by column (W is column-major)
+        for (size_t a = 0; a < idx.size(); ++a) W(idx[a], idx[b]) += Wd(a, b);
     }
     st->delassus_ms += msSince(t0);
 
@@ -730,10 +893,16 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
           // the wall where the point's path from x_t crossed it.
           const SurfacePoint hit = firstRoot(*pb.surface, p0, p, s.radius, pb.motion, o.root);
           if (hit.hit && !hit.started_outside) plane = hit;
-          // At x_t already within the tolerance band beyond the wall: the
-          // plane where it was.
-          if (hit.started_outside)
-            plane = projectToSurface(*pb.surface, p0, s.radius, pb.motion, 0.01, o.root);
+          // At x_t already within the tolerance band beyond the wall: where
+          // the path, having crossed the lumen, leaves it through the far
+          // wall; if it never enters the lumen, the wall nearest to where it
+          // left the support (the point slid along its plane, millimetres
+          // round a bend). The plane where it was would hold nothing: the
+          // point satisfies it, and it was added again in every loop.
+          if (hit.started_outside) {
+            plane = farExit(*pb.surface, p0, p, s.radius, pb.motion, o.root);
+            if (!plane.hit) plane = lastWallAlong(*pb.surface, p0, p, s.radius, pb.motion, o.root);
+          }
         }
         const int existing = contact_of[d][k];
         if (existing >= 0 && !updated[existing]) {

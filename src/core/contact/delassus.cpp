@@ -57,34 +57,88 @@ std::vector<Part> sortedParts(const std::vector<ContactRow>& rows, int blocks) {
   return parts;
 }
 
+/// W + W^T off the diagonal, the diagonal kept: each pair was added to one
+/// half only. In 32 x 32 tiles (the transpose's reads stay in cache);
+/// exactly symmetric.
+void symmetrizeHalves(MatX* W) {
+  constexpr int kTile = 32;
+  const int c = static_cast<int>(W->rows());
+  for (int j0 = 0; j0 < c; j0 += kTile)
+    for (int i0 = j0; i0 < c; i0 += kTile) {
+      const int jn = std::min(kTile, c - j0), in = std::min(kTile, c - i0);
+      for (int j = j0; j < j0 + jn; ++j)
+        for (int i = std::max(i0, j + 1); i < i0 + in; ++i) {
+          const double sum = (*W)(i, j) + (*W)(j, i);
+          (*W)(i, j) = sum;
+          (*W)(j, i) = sum;
+        }
+    }
+}
+
 }  // namespace
 
 void chainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
                            MatX* W) {
+  const MatX none;
+  updateChainDelassusOperator(inverse, rows, std::vector<char>(), none, W);
+}
+
+void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
+                                 const std::vector<char>& fresh_rows, const MatX& previous,
+                                 MatX* W) {
   const int c = static_cast<int>(rows.size());
+  const int kept_rows = static_cast<int>(previous.rows());
+  auto fresh = [&](int row) {
+    return row >= kept_rows || (row < static_cast<int>(fresh_rows.size()) && fresh_rows[row]);
+  };
   *W = MatX::Zero(c, c);
   const int blocks = inverse.numBlocks();
   std::vector<Part> parts = sortedParts(rows, blocks);
-  if (parts.empty()) return;
   std::reverse(parts.begin(), parts.end());  // from the top of the chain down
   const int count = static_cast<int>(parts.size());
   // One sweep down the chain carries the columns S g_b of every part started
-  // so far: column b of `here` holds S g_b at node i, of `above` at i + 1.
-  // A part's column starts at its own node from the band of S; below its
-  // nodes it is carried by S_ij g = -L_{i+1}^T S_{i+1,j} g, all columns in one
-  // 6 x 6 by 6 x k product. At node i each part a on it is dotted with every
-  // column: W_ab for the parts b above it (both halves of W) and for the
-  // parts on the same node from a on (each pair once).
+  // so far. A part's column starts at its own node from the band of S; below
+  // its nodes it follows S_ij g = -L_{i+1}^T S_{i+1,j} g. Carrying every
+  // column node by node costs 36 k per node for k columns; instead the
+  // columns are settled at a checkpoint node k and only the 6 x 6 transfer
+  // T = Phi(i <- k) = (-L_{i+1}^T) ... (-L_k^T) is carried (216 per node):
+  // at node i the columns are T S_k. Columns started since the checkpoint
+  // (young) are carried explicitly; once there are kYoungColumns of them, or
+  // the checkpoint lies kSpanNodes above, all are settled at the current node
+  // (36 k). At node i each part a is dotted with the columns: settled ones
+  // through u_a = T_i^T lo_a + T_{i+1}^T hi_a, young ones directly; W_ab for
+  // the parts b above it and for the parts on the same node from a on (each
+  // pair once). A pair of kept rows is not dotted: its entry is copied.
+  constexpr int kYoungColumns = 16;
+  constexpr int kSpanNodes = 32;
   using Mat6X = Eigen::Matrix<double, 6, Eigen::Dynamic>;
+  using MatX6 = Eigen::Matrix<double, Eigen::Dynamic, 6>;
   Mat6X here(6, count), above(6, count);
-  Eigen::RowVectorXd dots(count);
-  int active = 0;  // columns started
+  MatX6 settled(count, 6);  // settled columns, transposed: dots are 6 contiguous axpys
+  VecX dots(count);
+  std::vector<int> fresh_columns;  // started columns of fresh rows, ascending
+  Mat6 T = Mat6::Identity(), T_above = Mat6::Identity();
+  int settled_count = 0;  // columns [0, settled_count) are settled at node `checkpoint`
+  int active = 0;         // columns started; [settled_count, active) are young
+  int checkpoint = blocks;
+  // One half of W, in column pa.row (contiguous); W + W^T below. The two
+  // parts of one self-contact row meet on its diagonal twice.
+  auto add = [&](const Part& pa, const Part& pb, double w) {
+    W->col(pa.row)(pb.row) += pb.row == pa.row && &pa != &pb ? 2.0 * w : w;
+  };
   for (int next = 0; next < count;) {
     const int i = parts[next].node;
-    if (active > 0) {  // carry the started columns down to node i
+    if (active > 0) {  // carry the transfer and the young columns down to node i
+      const int young = active - settled_count;
       for (int node = parts[next - 1].node - 1; node >= i; --node) {
+        const Mat6& lt = inverse.lowerTransposed(node);
+        if (settled_count > 0) {
+          T_above = T;
+          T.noalias() = -lt * T_above;
+        }
         here.swap(above);  // (O(1): the buffers trade places)
-        here.leftCols(active).noalias() = -inverse.lowerTransposed(node) * above.leftCols(active);
+        here.middleCols(settled_count, young).noalias() =
+            -lt * above.middleCols(settled_count, young);
       }
     }
     const int started = active;  // columns of the parts above node i
@@ -97,22 +151,55 @@ void chainDelassusOperator(const ChainInverse& inverse, const std::vector<Contac
         above.col(active).noalias() =
             inverse.subdiagonal(i) * b.lo + inverse.diagonal(i + 1) * b.hi;
       }
+      if (fresh(b.row)) fresh_columns.push_back(active);
     }
+    const int young = active - settled_count;
     for (int a = next; a < active; ++a) {
       const Part& pa = parts[a];
-      dots.head(active).noalias() =
-          pa.lo.transpose() * here.leftCols(active) + pa.hi.transpose() * above.leftCols(active);
-      for (int b = 0; b < started; ++b) {
-        (*W)(pa.row, parts[b].row) += dots(b);
-        (*W)(parts[b].row, pa.row) += dots(b);
+      Vec6 u = Vec6::Zero();
+      if (settled_count > 0) u = T.transpose() * pa.lo + T_above.transpose() * pa.hi;
+      if (fresh(pa.row)) {  // with every column
+        if (settled_count > 0)
+          dots.head(settled_count).noalias() = settled.topRows(settled_count) * u;
+        dots.segment(settled_count, young).noalias() =
+            here.middleCols(settled_count, young).transpose() * pa.lo +
+            above.middleCols(settled_count, young).transpose() * pa.hi;
+        for (int b = 0; b < started; ++b) add(pa, parts[b], dots(b));
+        for (int b = a; b < active; ++b) add(pa, parts[b], dots(b));
+        continue;
       }
-      (*W)(pa.row, pa.row) += dots(a);
-      for (int b = a + 1; b < active; ++b) {
-        (*W)(pa.row, parts[b].row) += dots(b);
-        (*W)(parts[b].row, pa.row) += dots(b);
+      for (int b : fresh_columns) {           // a kept row: with the fresh columns only
+        if (b >= started && b < a) continue;  // same node, counted from b
+        const double w = b < settled_count ? settled.row(b).dot(u.transpose())
+                                           : pa.lo.dot(here.col(b)) + pa.hi.dot(above.col(b));
+        add(pa, parts[b], w);
       }
     }
     next = active;
+    if (young >= kYoungColumns || (settled_count > 0 && checkpoint - i >= kSpanNodes)) {
+      // Settle every column at node i.
+      if (settled_count > 0) {
+        const MatX6 moved = settled.topRows(settled_count) * T.transpose();
+        settled.topRows(settled_count) = moved;
+      }
+      settled.middleRows(settled_count, young) = here.middleCols(settled_count, young).transpose();
+      settled_count = active;
+      T.setIdentity();
+      checkpoint = i;
+    }
+  }
+  symmetrizeHalves(W);
+  // Pairs of kept rows: as before. Column by column, the previous column
+  // copied whole, then the entries of the changed rows put back.
+  std::vector<int> changed;
+  for (int i = 0; i < kept_rows; ++i)
+    if (fresh(i)) changed.push_back(i);
+  std::vector<double> computed(changed.size());
+  for (int j = 0; j < kept_rows; ++j) {
+    if (fresh(j)) continue;
+    for (size_t k = 0; k < changed.size(); ++k) computed[k] = (*W)(changed[k], j);
+    W->col(j).head(kept_rows) = previous.col(j);
+    for (size_t k = 0; k < changed.size(); ++k) (*W)(changed[k], j) = computed[k];
   }
 }
 

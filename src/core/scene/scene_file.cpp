@@ -179,6 +179,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
     return v == "true";
   };
   o.wall_curvature = flag("wall_curvature", o.wall_curvature);
+  o.curvature_loops = whole("curvature_loops", o.curvature_loops);
   if (n["friction_solver"]) {
     try {
       o.friction_solver.solver =
