@@ -4,21 +4,27 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <fstream>
-#include <limits>
 #include <map>
 #include <sstream>
 
+#include "device_pairs.h"
 #include "endovascular_sim/contact/coaxial.h"
 #include "endovascular_sim/contact/delassus.h"
 #include "endovascular_sim/contact/wall_curvature.h"
-#include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/mechanics/elasticity.h"
+#include "wall_planes.h"
 
 namespace evsim {
 namespace {
 
+using pairs::findPairs;
+using pairs::Pair;
+using pairs::pairNormal;
+using pairs::PointRef;
+using walls::depthOf;
+using walls::farExit;
+using walls::lastWallAlong;
+using walls::tunnelExit;
 using Clock = std::chrono::steady_clock;
 
 /// Rows of one device from which W comes from the band of A^-1 (one O(n)
@@ -57,135 +63,11 @@ bool detached(const DeviceState& x, const SamplePoint& s) {
   return x.cut_element >= 0 && s.element > x.cut_element;
 }
 
-/// Moves a point within the tolerance band beyond the wall (g < 0) to just
-/// inside, at its projection plus 0.1 um along the normal, with its field
-/// sample; false when that fails (no projection). A point inside stays.
-bool justInside(const ImplicitSurface& surface, double radius, const MotionSnapshot& motion,
-                const RootOptions& root, Vec3* p, FieldSample* g) {
-  if (g->value >= 0.0) return true;
-  constexpr double kJustInside = 1e-7;  // [m], well within the 1 um contact tolerance
-  const SurfacePoint wall = projectToSurface(surface, *p, radius, motion, 0.01, root);
-  if (!wall.hit) return false;
-  *p = wall.point + kJustInside * wall.normal;
-  *g = surface.evaluate(*p, radius, motion);
-  return g->value > 0.0;
-}
-
-/// Where a point's straight path p0 -> p, from inside (or the tolerance
-/// band beyond the wall) to inside (or the band), left its
-/// lumen through a wall into another lumen (hit false when it did not). The
-/// path counts as tunnelling, between two points inside, when the wall where
-/// it re-enters faces the other way (opposite normals): a chord that grazes
-/// a convex wall (a point sliding around the inner side of a bend) leaves
-/// and re-enters the same wall, with nearly equal normals, and is not a
-/// tunnel. From or to the band, when the chord runs more than 1 mm deep.
-SurfacePoint tunnelExit(const ImplicitSurface& surface, const Vec3& p0, const FieldSample& g0,
-                        const Vec3& p, const FieldSample& g, double radius,
-                        const MotionSnapshot& motion, const RootOptions& root) {
-  // An end within the tolerance band beyond the wall counts from just
-  // inside, at its projection: else a path through the tissue from or to
-  // there would never count (step 1,871 of 'tortuous' took the J-tip 12 mm
-  // across a hairpin so, from the band to the band).
-  Vec3 from = p0, to = p;
-  FieldSample g_from = g0, g_to = g;
-  if (!justInside(surface, radius, motion, root, &from, &g_from) ||
-      !justInside(surface, radius, motion, root, &to, &g_to))
-    return {};
-  const SurfacePoint exit = firstRootFrom(surface, from, g_from, to, radius, motion, root);
-  if (!exit.hit || exit.started_outside) return {};
-  const SurfacePoint entry = firstRootFrom(surface, to, g_to, from, radius, motion, root);
-  if (!entry.hit || entry.started_outside) return {};
-  // Between two points inside: a tunnel when the walls face each other.
-  if (g0.value >= 0.0 && g.value >= 0.0)
-    return exit.normal.dot(entry.normal) < 0.0 ? exit : SurfacePoint{};
-  // From or to the band (a point pressed against a wall): when the chord
-  // runs deep in the tissue, at its middle more than kTissue beyond the
-  // wall (the J-tip's chord across a hairpin whose legs lie in different
-  // planes: walls at an angle). Pressed coil points swinging across an
-  // aneurysm's neck in the loop's iterates cut its rim by 0.3-0.5 mm
-  // (chords 1-2 mm outside, walls facing each other) and come back in later
-  // loops; counting them ran 'aneurysm' out of loops.
-  constexpr double kTissue = 1e-3;  // [m]
-  const FieldSample middle = surface.evaluate(0.5 * (exit.point + entry.point), radius, motion);
-  const double slope = middle.gradient.norm();
-  const bool deep = middle.value < 0.0 && (slope == 0.0 || -middle.value / slope > kTissue);
-  return deep ? exit : SurfacePoint{};
-}
-
-/// Where the straight path p0 -> p, starting beyond the wall, leaves the
-/// lumen after it first enters it (hit false when it never enters), from
-/// the first of 32 points along it that lies inside.
-SurfacePoint farExit(const ImplicitSurface& surface, const Vec3& p0, const Vec3& p, double radius,
-                     const MotionSnapshot& motion, const RootOptions& root) {
-  constexpr int kProbes = 32;
-  for (int i = 1; i < kProbes; ++i) {
-    const Vec3 q = p0 + (static_cast<double>(i) / kProbes) * (p - p0);
-    const FieldSample g = surface.evaluate(q, radius, motion);
-    if (g.value > 0.0) return firstRootFrom(surface, q, g, p, radius, motion, root);
-  }
-  return {};
-}
-
-/// The wall nearest to where the straight path p0 -> p, outside the lumen
-/// throughout, leaves the vessels' support: the projection of the last of
-/// 32 points along it within the support (p0's when none is; hit false when
-/// even that has no projection).
-SurfacePoint lastWallAlong(const ImplicitSurface& surface, const Vec3& p0, const Vec3& p,
-                           double radius, const MotionSnapshot& motion, const RootOptions& root) {
-  constexpr int kProbes = 32;
-  for (int i = 1; i < kProbes; ++i) {
-    const Vec3 q = p + (static_cast<double>(i) / kProbes) * (p0 - p);
-    if (surface.evaluate(q, radius, motion).gradient.norm() == 0.0) continue;
-    const SurfacePoint wall = projectToSurface(surface, q, radius, motion, 0.01, root);
-    if (wall.hit) return wall;
-  }
-  return projectToSurface(surface, p0, radius, motion, 0.01, root);
-}
-
-/// Depth beyond the surface [m] (0 inside), from g / |grad g|.
-double depthOf(const FieldSample& g) {
-  if (g.value >= 0.0) return 0.0;
-  const double n = g.gradient.norm();
-  // Beyond every vessel's support the field is flat (g = -T, no gradient):
-  // the point lies outside all of them, as deep as it gets.
-  return n > 0.0 ? -g.value / n : std::numeric_limits<double>::infinity();
-}
-
-/// A sample point in a configuration (held ones are kinematic obstacles).
-struct PointRef {
-  bool free;
-  int device, sample, element;
-  double s;         // material coordinate [m]
-  Vec3 p;           // [m]
-  double r;         // [m]
-  int in_lumen_of;  // effect 'coaxial': the outer device whose lumen holds it (-1: none)
-};
-
-struct Pair {
-  int a, b;  // indices into the point list
-  double distance;
-};
-
 /// Unit tangent of the device axis at a sample point.
 Vec3 sampleTangent(const DeviceState& x, const SamplePoint& s) {
   const Vec3 t = (1.0 - s.xi) * (x.rotation[s.element] * Vec3::UnitX()) +
                  s.xi * (x.rotation[s.element + 1] * Vec3::UnitX());
   return t.normalized();
-}
-
-/// Normal of a contact between two device points, from b to a: across both
-/// axes (crossed cylinders: t_a x t_b), or, for nearly parallel axes, the
-/// part of p_a - p_b across t_a. Point-to-point normals would make each
-/// contact a pair of spheres, which roll off each other.
-Vec3 pairNormal(const Vec3& pa, const Vec3& ta, const Vec3& pb, const Vec3& tb) {
-  const Vec3 d = pa - pb;
-  const Vec3 c = ta.cross(tb);
-  if (c.norm() > 0.1) {
-    const Vec3 n = c.normalized();
-    return n.dot(d) >= 0.0 ? n : Vec3(-n);
-  }
-  const Vec3 across = d - d.dot(ta) * ta;
-  return across.norm() > 0.0 ? Vec3(across.normalized()) : d.normalized();
 }
 
 /// Orthonormal tangents of a contact plane: t1 along the device axis (its
@@ -274,150 +156,7 @@ Contact lumenContact(const LumenViolation& v, int outer) {
   return ct;
 }
 
-/// Pairs of points, at least one of them free, closer than the sum of their
-/// radii plus `margin`, from a grid of cells (sorted keys, no hashing). On
-/// one device only points more than 2 (r_a + r_b) plus two element lengths
-/// apart along it count (neighbours along a device always touch). Per pair
-/// of elements the closest pair only.
-std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
-                            const std::vector<PointRef>& pts, double margin) {
-  double rmax = 0.0;
-  for (const auto& q : pts) rmax = std::max(rmax, q.r);
-  const double cell = 2.0 * rmax + margin;
-  // Cell key (z, y, x), x least significant: the points sorted by key lie
-  // row by row ((z, y) fixed), each row in x order. A hash of the rows
-  // (open addressing) gives each row's range; the neighbours of a point are
-  // in 9 rows, at x - 1 ... x + 1.
-  auto cellOf = [cell](double v) { return static_cast<int64_t>(std::floor(v / cell)) + (1 << 20); };
-  const int n = static_cast<int>(pts.size());
-  std::vector<std::pair<int64_t, int>> sorted(n);  // (cell key, point)
-  for (int i = 0; i < n; ++i)
-    sorted[i] = {cellOf(pts[i].p.z()) << 42 | cellOf(pts[i].p.y()) << 21 | cellOf(pts[i].p.x()), i};
-  std::sort(sorted.begin(), sorted.end());
-  int bits = 4;
-  while ((1 << bits) < 2 * n) ++bits;
-  const uint64_t mask = (uint64_t{1} << bits) - 1;
-  struct Row {
-    int64_t key{-1};  // (z, y)
-    int begin{0}, end{0};
-  };
-  std::vector<Row> rows(mask + 1);
-  auto slot = [&](int64_t row_key) {
-    uint64_t h = (static_cast<uint64_t>(row_key) * 0x9E3779B97F4A7C15ull) >> (64 - bits);
-    while (rows[h].key != -1 && rows[h].key != row_key) h = (h + 1) & mask;
-    return h;
-  };
-  for (int k = 0; k < n;) {
-    const int64_t row_key = sorted[k].first >> 21;
-    int e = k;
-    while (e < n && (sorted[e].first >> 21) == row_key) ++e;
-    rows[slot(row_key)] = {row_key, k, e};
-    k = e;
-  }
-  struct Candidate {
-    int64_t elements;  // (device a, element a, device b, element b) packed
-    double distance;
-    int a, b;
-  };
-  std::vector<Candidate> found;
-  for (int i = 0; i < n; ++i) {
-    const PointRef& a = pts[i];
-    const int64_t x = cellOf(a.p.x()), y = cellOf(a.p.y()), z = cellOf(a.p.z());
-    for (int64_t dz = -1; dz <= 1; ++dz)
-      for (int64_t dy = -1; dy <= 1; ++dy) {
-        const Row& row = rows[slot((z + dz) << 21 | (y + dy))];
-        if (row.key == -1) continue;
-        for (int k = row.begin; k < row.end; ++k) {
-          const int64_t xb = sorted[k].first & ((int64_t{1} << 21) - 1);
-          if (xb < x - 1) continue;
-          if (xb > x + 1) break;
-          const int j = sorted[k].second;
-          if (j <= i) continue;
-          const PointRef& b = pts[j];
-          if (!a.free && !b.free) continue;
-          if (a.in_lumen_of == b.device || b.in_lumen_of == a.device) continue;
-          const double dist = (a.p - b.p).norm();
-          if (dist >= a.r + b.r + margin || dist == 0.0) continue;
-          if (a.device == b.device) {
-            const double along = std::abs(a.s - b.s);
-            const double le = std::max(devices[a.device].elements[a.element].length,
-                                       devices[b.device].elements[b.element].length);
-            if (along <= 2.0 * (a.r + b.r) + 2.0 * le) continue;
-          }
-          const int64_t elements = static_cast<int64_t>(a.device) << 52 |
-                                   static_cast<int64_t>(a.element) << 32 |
-                                   static_cast<int64_t>(b.device) << 20 | b.element;
-          found.push_back({elements, dist, i, j});
-        }
-      }
-  }
-  // Per pair of elements the closest (the first index pair on ties, as a
-  // scan in index order would keep).
-  std::sort(found.begin(), found.end(), [](const Candidate& x, const Candidate& y) {
-    if (x.elements != y.elements) return x.elements < y.elements;
-    if (x.distance != y.distance) return x.distance < y.distance;
-    return x.a != y.a ? x.a < y.a : x.b < y.b;
-  });
-  std::vector<Pair> out;
-  for (size_t k = 0; k < found.size(); ++k)
-    if (k == 0 || found[k].elements != found[k - 1].elements)
-      out.push_back({found[k].a, found[k].b, found[k].distance});
-  return out;
-}
-
 }  // namespace
-
-bool writeLcpRecord(const LcpRecord& r, const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) return false;
-  const long c = r.q.size();
-  std::fprintf(f,
-               "# endovascular_sim LCP: w = W z + q, 0 <= z _|_ w >= 0; W [m/N], q [m], z [N]\n");
-  std::fprintf(f, "size %ld\nW\n", c);
-  for (long i = 0; i < c; ++i)
-    for (long j = 0; j < c; ++j) std::fprintf(f, "%.17g%c", r.W(i, j), j + 1 < c ? ' ' : '\n');
-  std::fprintf(f, "q\n");
-  for (long i = 0; i < c; ++i) std::fprintf(f, "%.17g\n", r.q(i));
-  std::fprintf(f, "z\n");
-  for (long i = 0; i < c; ++i) std::fprintf(f, "%.17g\n", r.z(i));
-  if (r.mu.size() > 0) {
-    std::fprintf(f, "mu %ld\n", static_cast<long>(r.mu.size()));
-    for (long i = 0; i < r.mu.size(); ++i) std::fprintf(f, "%.17g\n", r.mu(i));
-  }
-  return std::fclose(f) == 0;
-}
-
-LcpRecord readLcpRecord(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw LoadError(path, 0, "", "cannot open the LCP file");
-  std::string line, word;
-  std::getline(in, line);  // header comment
-  long c = -1;
-  if (!(in >> word >> c) || word != "size" || c < 0)
-    throw LoadError(path, 2, "size", "expected 'size c'");
-  LcpRecord r{MatX(c, c), VecX(c), VecX(c), VecX()};
-  auto expect = [&](const char* name) {
-    if (!(in >> word) || word != name) throw LoadError(path, 0, name, "section missing");
-  };
-  expect("W");
-  for (long i = 0; i < c * c; ++i)
-    if (!(in >> r.W(i / c, i % c))) throw LoadError(path, 0, "W", "too few numbers");
-  expect("q");
-  for (long i = 0; i < c; ++i)
-    if (!(in >> r.q(i))) throw LoadError(path, 0, "q", "too few numbers");
-  expect("z");
-  for (long i = 0; i < c; ++i)
-    if (!(in >> r.z(i))) throw LoadError(path, 0, "z", "too few numbers");
-  long contacts = 0;
-  if (in >> word) {  // friction: "mu k" and k coefficients
-    if (word != "mu" || !(in >> contacts) || contacts < 0 || 3 * contacts != c)
-      throw LoadError(path, 0, "mu", "expected 'mu c/3'");
-    r.mu.resize(contacts);
-    for (long i = 0; i < contacts; ++i)
-      if (!(in >> r.mu(i))) throw LoadError(path, 0, "mu", "too few numbers");
-  }
-  return r;
-}
 
 std::string validateContactOptions(const ContactOptions& o) {
   std::ostringstream why;
