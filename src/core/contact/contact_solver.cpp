@@ -447,7 +447,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
 
     // --- Delassus operator W = H A^-1 H^T, q = H x_f - delta ---------------
     t0 = Clock::now();
-    MatX W = MatX::Zero(m, m);
+    MatX W;  // m x m, once the first device's part is known
     VecX q(m), mu(o.friction ? c : 0);
     // Parts of each row per device: (row, sample, signed row of H).
     struct Part {
@@ -522,6 +522,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         }
       }
       MatX Wd;
+      const MatX* Wdev = &Wd;  // this device's operator
       if (static_cast<int>(device_rows.size()) < kChainDelassusMinRows) {
         delassusOperator(*factor[d], device_rows, &Y[d], &Wd);
       } else {
@@ -543,12 +544,21 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
           changed[r] = !sameRow(before[r], device_rows[r]);
         updateChainDelassusOperator(ws[d].inverse, device_rows, changed, last_W[d], &Wd);
         last_rows[d] = device_rows;
-        last_W[d] = Wd;
+        last_W[d].swap(Wd);  // kept for the next loop
+        Wdev = &last_W[d];
       }
       const auto& idx = of_device[d];
+      bool identity = W.size() == 0 && static_cast<int>(idx.size()) == m;
+      for (size_t a = 0; a < idx.size() && identity; ++a) identity = idx[a] == static_cast<int>(a);
+      if (identity) {  // one device holds every row, in order: W is its operator
+        W = *Wdev;
+        continue;
+      }
+      if (W.size() == 0) W = MatX::Zero(m, m);
       for (size_t b = 0; b < idx.size(); ++b)  // column by column (W is column-major)
-        for (size_t a = 0; a < idx.size(); ++a) W(idx[a], idx[b]) += Wd(a, b);
+        for (size_t a = 0; a < idx.size(); ++a) W(idx[a], idx[b]) += (*Wdev)(a, b);
     }
+    if (W.size() == 0) W = MatX::Zero(m, m);
     st->delassus_ms += msSince(t0);
 
     // --- Status method (or the chosen solver; NSGS with friction) -----------

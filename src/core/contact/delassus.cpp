@@ -91,7 +91,21 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
   auto fresh = [&](int row) {
     return row >= kept_rows || (row < static_cast<int>(fresh_rows.size()) && fresh_rows[row]);
   };
-  *W = MatX::Zero(c, c);
+  // W starts as the previous operator among kept rows (final there) and 0
+  // elsewhere: the sweep adds only pairs with a fresh row, in one half.
+  std::vector<int> fresh_list;
+  for (int i = 0; i < c; ++i)
+    if (fresh(i)) fresh_list.push_back(i);
+  W->resize(c, c);
+  W->setZero();
+  if (kept_rows > 0) {
+    W->topLeftCorner(kept_rows, kept_rows) = previous;
+    for (int f : fresh_list) {
+      if (f >= kept_rows) break;
+      W->row(f).head(kept_rows).setZero();
+      W->col(f).head(kept_rows).setZero();
+    }
+  }
   const int blocks = inverse.numBlocks();
   std::vector<Part> parts = sortedParts(rows, blocks);
   std::reverse(parts.begin(), parts.end());  // from the top of the chain down
@@ -188,19 +202,21 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
       checkpoint = i;
     }
   }
-  symmetrizeHalves(W);
-  // Pairs of kept rows: as before. Column by column, the previous column
-  // copied whole, then the entries of the changed rows put back.
-  std::vector<int> changed;
-  for (int i = 0; i < kept_rows; ++i)
-    if (fresh(i)) changed.push_back(i);
-  std::vector<double> computed(changed.size());
-  for (int j = 0; j < kept_rows; ++j) {
-    if (fresh(j)) continue;
-    for (size_t k = 0; k < changed.size(); ++k) computed[k] = (*W)(changed[k], j);
-    W->col(j).head(kept_rows) = previous.col(j);
-    for (size_t k = 0; k < changed.size(); ++k) (*W)(changed[k], j) = computed[k];
+  if (kept_rows == 0) {  // every pair in one half
+    symmetrizeHalves(W);
+    return;
   }
+  // The pairs with a fresh row are in one half: add the halves there only
+  // (a fresh pair once, from its lower index; the diagonal is whole).
+  std::vector<char> is_fresh(c, 0);
+  for (int f : fresh_list) is_fresh[f] = 1;
+  for (int f : fresh_list)
+    for (int i = 0; i < c; ++i) {
+      if (is_fresh[i] && i <= f) continue;
+      const double sum = (*W)(i, f) + (*W)(f, i);
+      (*W)(i, f) = sum;
+      (*W)(f, i) = sum;
+    }
 }
 
 VecX contactForce(int n, const std::vector<ContactRow>& rows, const VecX& lambda) {
