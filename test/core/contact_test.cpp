@@ -128,17 +128,12 @@ TEST(ContactOptions, OutOfRangeAreRefused) {
   EXPECT_NE(validateContactOptions(o).find("curvature_loops"), std::string::npos);
 }
 
-/// A wire lying just beyond the wall of a tube (within the tolerance band)
-/// and thrown across it: its free motion ends beyond the far
-/// wall, beyond every vessel's support (a flat field, no projection). The
-/// plane is where the path leaves the lumen through the far wall; the plane
-/// of the near wall where the wire starts would hold nothing (it used to be
-/// added again in every loop until the step failed; 'tortuous' did so at a
-/// J-tip squeezed against a wall).
-TEST(Contact, APointThrownAcrossTheLumenGetsTheFarWall) {
+/// A scene with a 20 mm vessel of radius 2 mm along x and no device yet
+/// (1 ms steps).
+SceneModel tubeScene() {
   SceneModel m;
   m.time_step = 1e-3;
-  Centerline c;  // a 20 mm vessel of radius 2 mm along x
+  Centerline c;
   for (int i = 0; i <= 4; ++i) {
     c.position.push_back(Vec3(0.005 * i, 0.0, 0.0));
     c.radius.push_back(2e-3);
@@ -149,6 +144,19 @@ TEST(Contact, APointThrownAcrossTheLumenGetsTheFarWall) {
       c, std::vector<AneurysmSpec>{}, std::vector<MotionRegion>{}, VesselFieldOptions{});
   m.vessels = vessels;
   m.surface = vessels;
+  return m;
+}
+
+/// A wire lying just beyond the wall of a tube (within the tolerance band)
+/// and thrown across it: its free motion ends beyond the far
+/// wall, beyond every vessel's support (a flat field, no projection). The
+/// plane is where the path leaves the lumen through the far wall; the plane
+/// of the near wall where the wire starts would hold nothing (it used to be
+/// added again in every loop until the step failed; 'tortuous' did so at a
+/// J-tip squeezed against a wall).
+TEST(Contact, APointThrownAcrossTheLumenGetsTheFarWall) {
+  SceneModel m = tubeScene();
+  const auto vessels = m.vessels;
   const double r = 2e-4;
   DeviceSpec spec = straightDeviceSpec("wire", test::wireSection(60e9, r), 0.012, 12);
   m.devices.push_back(buildDeviceModel(spec));
@@ -186,19 +194,8 @@ TEST(Contact, APointThrownAcrossTheLumenGetsTheFarWall) {
 }
 
 TEST(Contact, APointBeyondEveryVesselsSupportIsBeyondTheWall) {
-  SceneModel m;
-  m.time_step = 1e-3;
-  Centerline c;  // a 20 mm vessel of radius 2 mm along x
-  for (int i = 0; i <= 4; ++i) {
-    c.position.push_back(Vec3(0.005 * i, 0.0, 0.0));
-    c.radius.push_back(2e-3);
-    c.parent.push_back(i - 1);
-    c.type.push_back(0);
-  }
-  auto vessels = std::make_shared<const VesselField>(
-      c, std::vector<AneurysmSpec>{}, std::vector<MotionRegion>{}, VesselFieldOptions{});
-  m.vessels = vessels;
-  m.surface = vessels;
+  SceneModel m = tubeScene();
+  const auto vessels = m.vessels;
   DeviceSpec spec = straightDeviceSpec("wire", test::wireSection(60e9, 2e-4), 0.05, 50);
   m.devices.push_back(buildDeviceModel(spec));
   Introducer intro;
