@@ -185,6 +185,8 @@ std::string validateContactOptions(const ContactOptions& o) {
   return why.str();
 }
 
+namespace {
+
 /// True when two rows of H are the same (parts, offsets, coefficients).
 bool sameRow(const ContactRow& a, const ContactRow& b) {
   if (a.parts != b.parts) return false;
@@ -268,6 +270,8 @@ void curvedFreeMotion(const ContactProblem& pb, const std::vector<ChainMatrix>& 
     (*factor)[d] = &w.curved;
   }
 }
+
+}  // namespace
 
 bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
                      std::vector<Contact>* contacts, ContactStats* st) {
