@@ -22,12 +22,13 @@
 //             N loops (the caller then subdivides the time step).
 //
 // W is formed per device, A^-1 never: from 16 rows on, from the band of
-// A^-1 (mechanics/chain_inverse.h, once a step; each loop for A + C with
-// the wall's curvature), every row's column A^-1 h_j carried down the chain
-// and dotted with the rows below it; below 16 rows, where the band's O(n)
-// cost dominates, from one block solve Y = A^-1 H^T with the stored CHOLMOD
-// factor (contact/delassus.h; both O(c n)). The correction A^-1 H^T lambda
-// is Y lambda, or one solve with the factor.
+// A^-1 (mechanics/chain_inverse.h, once a step; for A + C whenever the
+// wall's curvature term is updated, options.curvature_loops), in one sweep
+// down the chain; while the band stays, rows unchanged since the last loop
+// keep their entries (contact/delassus.h). Below 16 rows, where the band's
+// O(n) cost dominates, from one block solve Y = A^-1 H^T with the stored
+// CHOLMOD factor. The correction A^-1 H^T lambda is Y lambda, or one solve
+// with the factor.
 #pragma once
 
 #include <string>

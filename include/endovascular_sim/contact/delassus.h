@@ -4,9 +4,11 @@
 // for a chain of n nodes:
 //  - chainDelassusOperator (the contact solver's): from the band of A^-1
 //    (mechanics/chain_inverse.h), each row's column A^-1 h_j is started at
-//    its element and carried down the chain, one 6x6 product per block, and
-//    dotted with every row whose element lies below: W_ij for i <= j, no
-//    triangular solve, no n x c matrix;
+//    its element and carried down the chain (settled columns through one
+//    6x6 transfer per node, recent ones explicitly) and dotted with every
+//    row whose element lies below: W_ij for i <= j, no triangular solve, no
+//    n x c matrix; updateChainDelassusOperator does the same for the rows
+//    that changed since a previous W and copies the rest;
 //  - delassusOperator: one CHOLMOD solve with a block of c right-hand sides
 //    gives Y = A^-1 H^T (banded triangular solves, both directions over the
 //    whole chain), then W_ij = h_i . Y_j over the 12 non-zeros of h_i.
