@@ -14,8 +14,8 @@ rm -rf "$results"
 # shellcheck disable=SC1091
 set +u; source "$ws/devel/setup.bash"; set -u
 # The test binaries are built on both cores, then the tests run one at a
-# time: run in parallel, the stability suite took a core from the rostests,
-# whose node then missed its latched 780k-triangle vessel mesh within 90 s.
+# time: run in parallel, the stability suite took a core from the rostests'
+# nodes.
 (cd "$ws" && catkin_make tests -j2 -DPYTHON_EXECUTABLE=/usr/bin/python3 2>&1 \
   | grep -E 'error:' || true)
 (cd "$ws" && catkin_make run_tests -j1 -DPYTHON_EXECUTABLE=/usr/bin/python3 2>&1 \

@@ -3,6 +3,7 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/TransformStamped.h>
 
+#include <boost/make_shared.hpp>
 #include <sstream>
 
 #include "endovascular_sim/ros/message_conversions.h"
@@ -41,7 +42,14 @@ FramePublisher::FramePublisher(ros::NodeHandle nh, std::string frame_id, MarkerS
   contacts_pub_ = nh_.advertise<endovascular_sim::ContactArray>("contacts", 10);
   states_pub_ = nh_.advertise<endovascular_sim::DeviceStatusArray>("device_states", 10);
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("markers", 10);
-  vessels_pub_ = nh_.advertise<visualization_msgs::Marker>("vessels", 1, /*latch=*/true);
+  // Not latched: roscpp's latch can miss a subscriber whose connection
+  // completes while the mesh is being published (Publisher::publish stores
+  // the latched message only after queueing it, and the poll thread may add
+  // the new link in between: the `vessels` check of rate.test waited 120 s in
+  // vain in CI). Each new subscriber gets the last mesh from the connect
+  // callback instead, sent on its own link.
+  vessels_pub_ = nh_.advertise<visualization_msgs::Marker>(
+      "vessels", 1, [this](const ros::SingleSubscriberPublisher& s) { sendVesselMesh(s); });
   diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
 }
 
@@ -60,6 +68,7 @@ void FramePublisher::setScene(const SceneModel& model, std::shared_ptr<const Sur
             : ros::Publisher());
   }
   mesh_ = std::move(mesh);
+  vessels_msg_.reset();  // a subscriber arriving now waits for the new scene's mesh
   last_mesh_time_ = -1.0;
   last_tf_time_ = -1.0;
   if (!mesh_) {  // a scene without vessels: clear what a previous scene showed
@@ -111,7 +120,15 @@ void FramePublisher::publishVesselMesh(const FrameSnapshot& f, const std_msgs::H
   if (last_mesh_time_ >= 0.0 && (!moving || f.time - last_mesh_time_ < vessel_mesh_period_s_))
     return;
   last_mesh_time_ = f.time;
-  vessels_pub_.publish(vesselMeshMarker(*mesh_, f.model->vessels.get(), f.motion, header));
+  vessels_msg_ = boost::make_shared<const visualization_msgs::Marker>(
+      vesselMeshMarker(*mesh_, f.model->vessels.get(), f.motion, header));
+  vessels_pub_.publish(vessels_msg_);
+}
+
+void FramePublisher::sendVesselMesh(const ros::SingleSubscriberPublisher& subscriber) const {
+  // Runs on the spinner thread like publishVesselMesh: a subscriber that
+  // connected before the first mesh gets it from that publish instead.
+  if (vessels_msg_) subscriber.publish(vessels_msg_);
 }
 
 void FramePublisher::publishDiagnostics(const FrameSnapshot& f, const LoopTiming& timing,

@@ -8,6 +8,7 @@ files in config/scenes, and the commands the test itself sends.
 import glob
 import math
 import os
+import re
 import subprocess
 import threading
 import time
@@ -259,6 +260,18 @@ class NavigationNodeTest(unittest.TestCase):
         from nav_msgs.msg import Path
         path = rospy.wait_for_message('devices/coil/path', Path, timeout=10)
         self.assertGreater(len(path.poses), 10)
+
+    def test_every_new_vessels_subscriber_gets_the_scene_mesh(self):
+        from visualization_msgs.msg import Marker
+        res = self.load_scene('aneurysm')
+        self.assertTrue(res.success, res.message)
+        triangles = int(re.search(r'vessel mesh of (\d+) triangles', res.message).group(1))
+        self.wait_for(lambda: self.stats.scene == 'aneurysm', 'aneurysm stats')
+        self.wait_sim(0.2)  # frames have gone by: the mesh was published before we subscribe
+        for _ in range(2):  # each wait_for_message is a fresh subscription
+            mesh = rospy.wait_for_message('vessels', Marker, timeout=30)
+            self.assertEqual(mesh.type, Marker.TRIANGLE_LIST)
+            self.assertEqual(len(mesh.points), 3 * triangles)
 
     def test_reset_returns_to_the_initial_state(self):
         initial = self.scene['devices'][0]['inserted_length']

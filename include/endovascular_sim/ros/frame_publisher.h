@@ -5,13 +5,15 @@
 //   device_states                 endovascular_sim/DeviceStatusArray
 //   devices/<name>/path           nav_msgs/Path (node poses)
 //   markers                       visualization_msgs/MarkerArray
-//   vessels                       visualization_msgs/Marker, latched (moved with the vessels)
+//   vessels                       visualization_msgs/Marker, sent to each new subscriber
+//                                 (republished when the vessels move)
 //   tf                            <name>/tip and <name>/access under frame_id
 //   /diagnostics                  loop rate, real-time factor, overruns (every second)
 #pragma once
 
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
+#include <visualization_msgs/Marker.h>
 
 #include <memory>
 #include <string>
@@ -28,7 +30,7 @@ class FramePublisher {
   FramePublisher(ros::NodeHandle nh, std::string frame_id, MarkerStyle style,
                  double vessel_mesh_period_s);
 
-  /// A new scene: per-device topics, the latched vessel mesh (may be null).
+  /// A new scene: per-device topics, the vessel mesh (may be null).
   void setScene(const SceneModel& model, std::shared_ptr<const SurfaceMesh> mesh, ros::Time epoch);
   /// The wall time that simulated time 0 is stamped as (reset, new scene).
   void setEpoch(ros::Time epoch) { epoch_ = epoch; }
@@ -43,6 +45,8 @@ class FramePublisher {
  private:
   void publishTransforms(const FrameSnapshot& frame, const std_msgs::Header& header);
   void publishVesselMesh(const FrameSnapshot& frame, const std_msgs::Header& header);
+  /// The last vessel mesh to one new subscriber (vessels_pub_'s connect callback).
+  void sendVesselMesh(const ros::SingleSubscriberPublisher& subscriber) const;
 
   ros::NodeHandle nh_;
   std::string frame_id_;
@@ -55,8 +59,9 @@ class FramePublisher {
   std::vector<ros::Publisher> detached_path_pubs_;  // empty publisher: the device cannot detach
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   std::shared_ptr<const SurfaceMesh> mesh_;
-  double last_mesh_time_{-1.0};  // simulated time of the last published mesh [s]
-  double last_tf_time_{-1.0};    // tf is sent only when simulated time advanced
+  visualization_msgs::MarkerConstPtr vessels_msg_;  // last published mesh (null: none yet)
+  double last_mesh_time_{-1.0};                     // simulated time of the last published mesh [s]
+  double last_tf_time_{-1.0};                       // tf is sent only when simulated time advanced
   long last_overruns_{0};
 };
 
