@@ -72,12 +72,13 @@ void FramePublisher::setScene(const SceneModel& model, std::shared_ptr<const Sur
   last_mesh_time_ = -1.0;
   last_tf_time_ = -1.0;
   if (!mesh_) {  // a scene without vessels: clear what a previous scene showed
-    visualization_msgs::Marker clear;
-    clear.header.frame_id = frame_id_;
-    clear.header.stamp = epoch;
-    clear.ns = "vessels";
-    clear.action = visualization_msgs::Marker::DELETE;
-    vessels_pub_.publish(clear);
+    auto clear = boost::make_shared<visualization_msgs::Marker>();
+    clear->header.frame_id = frame_id_;
+    clear->header.stamp = epoch;
+    clear->ns = "vessels";
+    clear->action = visualization_msgs::Marker::DELETE;
+    vessels_msg_ = clear;  // also to new subscribers: every scene says what its vessels are
+    vessels_pub_.publish(vessels_msg_);
   }
 }
 

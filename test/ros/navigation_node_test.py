@@ -263,6 +263,9 @@ class NavigationNodeTest(unittest.TestCase):
 
     def test_every_new_vessels_subscriber_gets_the_scene_mesh(self):
         from visualization_msgs.msg import Marker
+        # free_insertion (setUp) has no vessels: a new subscriber is told so
+        self.assertEqual(rospy.wait_for_message('vessels', Marker, timeout=30).action,
+                         Marker.DELETE)
         res = self.load_scene('aneurysm')
         self.assertTrue(res.success, res.message)
         triangles = int(re.search(r'vessel mesh of (\d+) triangles', res.message).group(1))

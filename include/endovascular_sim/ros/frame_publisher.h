@@ -45,7 +45,7 @@ class FramePublisher {
  private:
   void publishTransforms(const FrameSnapshot& frame, const std_msgs::Header& header);
   void publishVesselMesh(const FrameSnapshot& frame, const std_msgs::Header& header);
-  /// The last vessel mesh to one new subscriber (vessels_pub_'s connect callback).
+  /// The last vessels message to one new subscriber (vessels_pub_'s connect callback).
   void sendVesselMesh(const ros::SingleSubscriberPublisher& subscriber) const;
 
   ros::NodeHandle nh_;
@@ -59,9 +59,11 @@ class FramePublisher {
   std::vector<ros::Publisher> detached_path_pubs_;  // empty publisher: the device cannot detach
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   std::shared_ptr<const SurfaceMesh> mesh_;
-  visualization_msgs::MarkerConstPtr vessels_msg_;  // last published mesh (null: none yet)
-  double last_mesh_time_{-1.0};                     // simulated time of the last published mesh [s]
-  double last_tf_time_{-1.0};                       // tf is sent only when simulated time advanced
+  // The last vessels message: the mesh, or DELETE for a scene without
+  // vessels (null: the scene's mesh is not published yet).
+  visualization_msgs::MarkerConstPtr vessels_msg_;
+  double last_mesh_time_{-1.0};  // simulated time of the last published mesh [s]
+  double last_tf_time_{-1.0};    // tf is sent only when simulated time advanced
   long last_overruns_{0};
 };
 
