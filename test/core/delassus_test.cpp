@@ -91,6 +91,11 @@ TEST(ChainInverse, BandMatchesTheDenseInverse) {
                   1e-12 * S.norm());
       }
     }
+    // A solve from the same factorisation.
+    const VecX b = VecX::Random(6 * nb);
+    VecX x = b;
+    inverse.solveInPlace(&x);
+    EXPECT_LT((x - S * b).norm(), 1e-12 * S.norm() * b.norm());
     // A column far from the band, carried down from the diagonal.
     const Vec6 g = Vec6::Random();
     const int j = nb - 2;
@@ -113,8 +118,10 @@ TEST(ChainInverse, ReportsAnIndefiniteMatrix) {
 
 /// After a loop of the contact solver, some rows change (a plane updated)
 /// and new ones come (new contacts); the update copies the entries between
-/// unchanged rows and computes the rest. It must equal the dense operator
-/// of the new rows, and using a stale entry must show.
+/// unchanged rows and computes the rest: with few fresh rows their columns
+/// alone (two sweeps), with many one sweep with every column. Either must
+/// equal the dense operator of the new rows, and using a stale entry must
+/// show.
 TEST(ChainDelassus, AnUpdateAfterSomeRowsChangedMatchesTheDenseOperator) {
   std::mt19937 rng(17);
   const ChainMatrix A = randomSpdChain(40, &rng);
@@ -124,24 +131,30 @@ TEST(ChainDelassus, AnUpdateAfterSomeRowsChangedMatchesTheDenseOperator) {
   const std::vector<ContactRow> before = rowsOfEveryKind(nb, &rng);
   MatX W_before;
   chainDelassusOperator(inverse, before, &W_before);
-  std::vector<ContactRow> after = before;
-  std::vector<char> changed(before.size(), 0);
-  for (int r : {2, 17, 26, 28}) {  // singles and self contacts
-    for (int part = 0; part < after[r].parts; ++part) after[r].h[part] = randomRow(&rng);
-    changed[r] = 1;
-  }
   const std::vector<ContactRow> more = rowsOfEveryKind(nb, &rng);
-  after.insert(after.end(), more.begin(), more.begin() + 6);  // new rows
-  MatX W;
-  updateChainDelassusOperator(inverse, after, changed, W_before, &W);
-  const MatX H = denseH(after, n);
-  const MatX dense = H * A.toDense().bottomRightCorner(n, n).llt().solve(H.transpose());
-  EXPECT_LT((W - dense).norm(), 1e-12 * dense.norm());
-  EXPECT_EQ(W, W.transpose());
-  changed[17] = 0;  // a changed row taken as unchanged: its old entries stay
-  MatX stale;
-  updateChainDelassusOperator(inverse, after, changed, W_before, &stale);
-  EXPECT_GT((stale - dense).norm(), 1e-3 * dense.norm());
+  // Few fresh rows (a single and a self contact changed, 6 new: 8 of 37),
+  // then many (16 changed and 6 new).
+  const std::vector<std::vector<int>> changes = {
+      {17, 28}, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 17, 21, 26, 28, 30}};
+  for (const std::vector<int>& change : changes) {
+    std::vector<ContactRow> after = before;
+    std::vector<char> changed(before.size(), 0);
+    for (int r : change) {
+      for (int part = 0; part < after[r].parts; ++part) after[r].h[part] = randomRow(&rng);
+      changed[r] = 1;
+    }
+    after.insert(after.end(), more.begin(), more.begin() + 6);  // new rows
+    MatX W = W_before;
+    updateChainDelassusOperator(inverse, after, changed, &W);
+    const MatX H = denseH(after, n);
+    const MatX dense = H * A.toDense().bottomRightCorner(n, n).llt().solve(H.transpose());
+    EXPECT_LT((W - dense).norm(), 1e-12 * dense.norm()) << change.size() << " changed";
+    EXPECT_EQ(W, W.transpose());
+    changed[17] = 0;  // a changed row taken as unchanged: its old entries stay
+    MatX stale = W_before;
+    updateChainDelassusOperator(inverse, after, changed, &stale);
+    EXPECT_GT((stale - dense).norm(), 1e-3 * dense.norm());
+  }
 }
 
 TEST(ChainDelassus, MatchesDenseAndBlockSolveForEveryKindOfRow) {

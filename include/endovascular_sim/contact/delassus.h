@@ -7,8 +7,9 @@
 //    its element and carried down the chain (settled columns through one
 //    6x6 transfer per node, recent ones explicitly) and dotted with every
 //    row whose element lies below: W_ij for i <= j, no triangular solve, no
-//    n x c matrix; updateChainDelassusOperator does the same for the rows
-//    that changed since a previous W and copies the rest;
+//    n x c matrix; updateChainDelassusOperator updates a previous W in
+//    place for the rows that changed since (with few, their columns alone:
+//    carried down and their rows up the chain) and keeps the rest;
 //  - delassusOperator: one CHOLMOD solve with a block of c right-hand sides
 //    gives Y = A^-1 H^T (banded triangular solves, both directions over the
 //    whole chain), then W_ij = h_i . Y_j over the 12 non-zeros of h_i.
@@ -43,14 +44,14 @@ void delassusOperator(SparseCholesky& cholesky, const std::vector<ContactRow>& r
 void chainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
                            MatX* W);
 
-/// The same W after some rows changed, the inverse unchanged: `previous` is
-/// the operator of the first previous.rows() rows; of those, the rows with
-/// fresh_rows[i] != 0 changed (rows beyond are new). Entries between two
-/// unchanged rows are copied; only the others are computed (O(n + c k) for
-/// k changed rows, against O(n + c^2)).
+/// The same W after some rows changed, the inverse unchanged, in place: on
+/// entry *W is the operator of its first W->rows() rows (at most
+/// rows.size()); of those, the rows with fresh_rows[i] != 0 changed (rows
+/// beyond are new). Entries between two unchanged rows are kept; only the
+/// others are computed (O(n k + c k) for k fresh rows, against
+/// O(n + c^2)).
 void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
-                                 const std::vector<char>& fresh_rows, const MatX& previous,
-                                 MatX* W);
+                                 const std::vector<char>& fresh_rows, MatX* W);
 
 /// H^T lambda over the free DOFs (n): the generalised force of the rows.
 VecX contactForce(int n, const std::vector<ContactRow>& rows, const VecX& lambda);

@@ -31,16 +31,20 @@ class ChainInverse {
   const Mat6& diagonal(int i) const { return diag_[i]; }
   /// S_{i+1,i} (S_{i,i+1} is its transpose).
   const Mat6& subdiagonal(int i) const { return sub_[i]; }
-  /// S_ij g for i < j from S_{i+1,j} g: -L_{i+1}^T v.
-  Vec6 propagateDown(int i, const Vec6& v_above) const { return -lower_t_[i] * v_above; }
-  /// L_{i+1}^T, to carry several columns down at once (-L_{i+1}^T V).
-  const Mat6& lowerTransposed(int i) const { return lower_t_[i]; }
+  /// The transfer -L_{i+1}^T: S_ij g = transfer(i) S_{i+1,j} g for i < j
+  /// (several columns at once: transfer(i) V).
+  const Mat6& transfer(int i) const { return transfer_[i]; }
+  /// S_ij g for i < j from S_{i+1,j} g.
+  Vec6 propagateDown(int i, const Vec6& v_above) const { return transfer_[i] * v_above; }
+  /// b <- A^-1 b over the factorised blocks (6 numBlocks() entries), from
+  /// the block LDL^T: forward through L, D^-1, back through L^T.
+  void solveInPlace(VecX* b) const;
 
  private:
-  std::vector<Mat6> lower_t_;  // L_{i+1}^T, i in [0, n-1)
-  std::vector<Mat6> diag_;     // S_ii
-  std::vector<Mat6> sub_;      // S_{i+1,i}
-  std::vector<Mat6> d_inv_;    // D_i^-1 (workspace)
+  std::vector<Mat6> transfer_;  // -L_{i+1}^T, i in [0, n-1)
+  std::vector<Mat6> diag_;      // S_ii
+  std::vector<Mat6> sub_;       // S_{i+1,i}
+  std::vector<Mat6> d_inv_;     // D_i^-1
 };
 
 }  // namespace evsim

@@ -451,7 +451,8 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
 
     // --- Delassus operator W = H A^-1 H^T, q = H x_f - delta ---------------
     t0 = Clock::now();
-    MatX W;  // m x m, once the first device's part is known
+    MatX W_sum;              // m x m, once a device's part is added
+    const MatX* W = &W_sum;  // or one device's operator (its rows are all rows)
     VecX q(m), mu(o.friction ? c : 0);
     // Parts of each row per device: (row, sample, signed row of H).
     struct Part {
@@ -546,23 +547,29 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         std::vector<char> changed(before.size(), 1);
         for (size_t r = 0; r < before.size() && r < device_rows.size(); ++r)
           changed[r] = !sameRow(before[r], device_rows[r]);
-        updateChainDelassusOperator(ws[d].inverse, device_rows, changed, last_W[d], &Wd);
+        updateChainDelassusOperator(ws[d].inverse, device_rows, changed, &last_W[d]);
         last_rows[d] = device_rows;
-        last_W[d].swap(Wd);  // kept for the next loop
-        Wdev = &last_W[d];
+        Wdev = &last_W[d];  // kept for the next loop
       }
       const auto& idx = of_device[d];
-      bool identity = W.size() == 0 && static_cast<int>(idx.size()) == m;
+      bool identity = W == &W_sum && W_sum.size() == 0 && static_cast<int>(idx.size()) == m;
       for (size_t a = 0; a < idx.size() && identity; ++a) identity = idx[a] == static_cast<int>(a);
       if (identity) {  // one device holds every row, in order: W is its operator
-        W = *Wdev;
+        if (Wdev == &Wd)
+          W_sum.swap(Wd);
+        else
+          W = Wdev;  // last_W[d], unchanged until the next loop
         continue;
       }
-      if (W.size() == 0) W = MatX::Zero(m, m);
+      if (W != &W_sum) {  // a device before held every row, and this one shares some
+        W_sum = *W;
+        W = &W_sum;
+      }
+      if (W_sum.size() == 0) W_sum = MatX::Zero(m, m);
       for (size_t b = 0; b < idx.size(); ++b)  // column by column (W is column-major)
-        for (size_t a = 0; a < idx.size(); ++a) W(idx[a], idx[b]) += (*Wdev)(a, b);
+        for (size_t a = 0; a < idx.size(); ++a) W_sum(idx[a], idx[b]) += (*Wdev)(a, b);
     }
-    if (W.size() == 0) W = MatX::Zero(m, m);
+    if (W->size() == 0) W_sum = MatX::Zero(m, m);  // (W points to W_sum)
     st->delassus_ms += msSince(t0);
 
     // --- Status method (or the chosen solver; NSGS with friction) -----------
@@ -577,7 +584,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
             tangents[i][1].dot(ct.friction);
       }
       FrictionStats fs;
-      status = solveFrictionalContact(W, q, mu, o.friction_solver, &lambda, &fs);
+      status = solveFrictionalContact(*W, q, mu, o.friction_solver, &lambda, &fs);
       st->lcp_iterations += fs.sweeps;
       st->lcp_residual = fs.residual;
       st->sliding_contacts = fs.sliding;
@@ -590,13 +597,13 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       LcpOptions lo = o.lcp;
       lo.warm_start = true;
       LcpStats ls;
-      status = solveLcp(W, q, lo, &lambda, &ls);
+      status = solveLcp(*W, q, lo, &lambda, &ls);
       st->lcp_iterations += ls.iterations;
       st->lcp_residual = ls.residual;
     }
     st->lcp_ms += msSince(t0);
     st->contacts = c;
-    if (pb.record) *pb.record = {W, q, lambda, mu};
+    if (pb.record) *pb.record = {*W, q, lambda, mu};
     if (status != LcpStatus::kSolved) return false;  // the caller subdivides
 
     // --- Correction x = x_f + A^-1 H^T lambda --------------------------------
@@ -612,7 +619,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         dq[d].tail(n) += Y[d] * l;
       } else {
         VecX correction = contactForce(n, rows_of[d], l);
-        factor[d]->solveInPlace(&correction);
+        ws[d].inverse.solveInPlace(&correction);  // the LDL^T of the band's matrix
         dq[d].tail(n) += correction;
       }
     }

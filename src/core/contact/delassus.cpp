@@ -31,6 +31,10 @@ void delassusOperator(SparseCholesky& cholesky, const std::vector<ContactRow>& r
 
 namespace {
 
+/// The update computes only the fresh rows' columns when at most one row in
+/// kFreshColumnsShare is fresh (else one sweep with every column).
+constexpr int kFreshColumnsShare = 4;
+
 /// One part of a row on the nodes (node, node + 1) of the free chain.
 struct Part {
   int row;
@@ -75,19 +79,94 @@ void symmetrizeHalves(MatX* W) {
     }
 }
 
+/// A part's own column S g at its nodes: S_ii lo + S_{i,i+1} hi at node i
+/// (`here`), S_{i+1,i} lo + S_{i+1,i+1} hi at node i + 1 (`above`).
+void localColumn(const ChainInverse& inverse, const Part& p, Vec6* here, Vec6* above) {
+  const int i = p.node;
+  *here = inverse.diagonal(i) * p.lo;
+  above->setZero();
+  if (i + 1 < inverse.numBlocks()) {
+    here->noalias() += inverse.subdiagonal(i).transpose() * p.hi;
+    above->noalias() = inverse.subdiagonal(i) * p.lo + inverse.diagonal(i + 1) * p.hi;
+  }
+}
+
+/// Adds to W(:, b.row), for every fresh part b, g_a^T S g_b of every part a
+/// (parts sorted by node, ascending). Two sweeps, each carrying only the
+/// fresh parts, 36 flops per part and node:
+///  - down the chain, b's column S g_b (from its own nodes down:
+///    S_kj g = Phi(k <- j) S_jj g, Phi(k <- k+1) = -L_{k+1}^T), dotted with
+///    the parts a at or below b's node: lo_a . col(i) + hi_a . col(i + 1);
+///  - up the chain, the row r_b(i) = Phi(j <- i)^T lo_b + Phi(j+1 <- i)^T hi_b
+///    (r_b(i + 1) = -L_{i+1} r_b(i)), dotted with the own column of each
+///    part a above b's node: g_b^T S g_a = r_b(i) . (S g_a)(i).
+/// Every pair (a, b fresh) once; the caller mirrors the fresh columns.
+void addFreshColumns(const ChainInverse& inverse, const std::vector<Part>& parts,
+                     const std::vector<int>& fresh_parts, MatX* W) {
+  using Mat6X = Eigen::Matrix<double, 6, Eigen::Dynamic>;
+  const int f = static_cast<int>(fresh_parts.size());
+  const int count = static_cast<int>(parts.size());
+  if (f == 0) return;
+  Mat6X here(6, f), above(6, f);
+  VecX dots(f);
+  // Down: fresh columns started at their nodes, highest first.
+  int started = 0;  // fresh_parts[f - started, f) are started
+  int node = parts[fresh_parts[f - 1]].node;
+  for (int a = count - 1; a >= 0; --a) {
+    const Part& pa = parts[a];
+    if (pa.node > parts[fresh_parts[f - 1]].node) continue;
+    for (; node > pa.node; --node) {  // carry the started columns to node - 1
+      const int first = f - started;
+      here.swap(above);  // (O(1): the buffers trade places)
+      here.middleCols(first, started).noalias() =
+          inverse.transfer(node - 1) * above.middleCols(first, started);
+    }
+    for (; started < f && parts[fresh_parts[f - 1 - started]].node == pa.node; ++started) {
+      const int col = f - 1 - started;
+      Vec6 h, ab;
+      localColumn(inverse, parts[fresh_parts[col]], &h, &ab);
+      here.col(col) = h;
+      above.col(col) = ab;
+    }
+    const int first = f - started;
+    dots.head(started).noalias() = here.middleCols(first, started).transpose() * pa.lo +
+                                   above.middleCols(first, started).transpose() * pa.hi;
+    for (int k = 0; k < started; ++k) W->col(parts[fresh_parts[first + k]].row)(pa.row) += dots(k);
+  }
+  // Up: rows of the fresh parts strictly below each part a.
+  Mat6X r(6, f);
+  started = 0;  // fresh_parts[0, started) are started, r at node `node`
+  node = parts[fresh_parts[0]].node;
+  for (int a = 0; a < count; ++a) {
+    const Part& pa = parts[a];
+    if (pa.node <= parts[fresh_parts[0]].node) continue;
+    for (; node < pa.node; ++node) {  // r_b(node + 1) from r_b(node); start parts at `node`
+      r.leftCols(started) = inverse.transfer(node).transpose() * r.leftCols(started);
+      for (; started < f && parts[fresh_parts[started]].node == node; ++started) {
+        const Part& pb = parts[fresh_parts[started]];
+        r.col(started) = pb.hi + inverse.transfer(node).transpose() * pb.lo;
+      }
+    }
+    Vec6 h, ab;
+    localColumn(inverse, pa, &h, &ab);
+    dots.head(started).noalias() = r.leftCols(started).transpose() * h;
+    for (int k = 0; k < started; ++k) W->col(parts[fresh_parts[k]].row)(pa.row) += dots(k);
+  }
+}
+
 }  // namespace
 
 void chainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
                            MatX* W) {
-  const MatX none;
-  updateChainDelassusOperator(inverse, rows, std::vector<char>(), none, W);
+  W->resize(0, 0);
+  updateChainDelassusOperator(inverse, rows, std::vector<char>(), W);
 }
 
 void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
-                                 const std::vector<char>& fresh_rows, const MatX& previous,
-                                 MatX* W) {
+                                 const std::vector<char>& fresh_rows, MatX* W) {
   const int c = static_cast<int>(rows.size());
-  const int kept_rows = static_cast<int>(previous.rows());
+  if (W->rows() > c || W->rows() != W->cols()) W->resize(0, 0);  // nothing to keep
+  const int kept_rows = static_cast<int>(W->rows());
   auto fresh = [&](int row) {
     return row >= kept_rows || (row < static_cast<int>(fresh_rows.size()) && fresh_rows[row]);
   };
@@ -96,18 +175,34 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
   std::vector<int> fresh_list;
   for (int i = 0; i < c; ++i)
     if (fresh(i)) fresh_list.push_back(i);
-  W->resize(c, c);
-  W->setZero();
-  if (kept_rows > 0) {
-    W->topLeftCorner(kept_rows, kept_rows) = previous;
-    for (int f : fresh_list) {
-      if (f >= kept_rows) break;
-      W->row(f).head(kept_rows).setZero();
-      W->col(f).head(kept_rows).setZero();
-    }
+  if (kept_rows < c) {  // grown: the kept block copied once, the rest zero
+    MatX grown(c, c);
+    grown.topLeftCorner(kept_rows, kept_rows) = W->topLeftCorner(kept_rows, kept_rows);
+    grown.bottomRows(c - kept_rows).setZero();
+    grown.topRightCorner(kept_rows, c - kept_rows).setZero();
+    W->swap(grown);
+  }
+  for (int f : fresh_list) {
+    if (f >= kept_rows) break;
+    W->row(f).head(kept_rows).setZero();
+    W->col(f).head(kept_rows).setZero();
   }
   const int blocks = inverse.numBlocks();
   std::vector<Part> parts = sortedParts(rows, blocks);
+  if (kept_rows > 0 && kFreshColumnsShare * static_cast<int>(fresh_list.size()) <= c) {
+    // Few fresh rows: their columns alone, then mirrored into their rows
+    // (a pair of fresh rows from the higher one's column).
+    std::vector<int> fresh_parts;
+    for (size_t k = 0; k < parts.size(); ++k)
+      if (fresh(parts[k].row)) fresh_parts.push_back(static_cast<int>(k));
+    addFreshColumns(inverse, parts, fresh_parts, W);
+    std::vector<char> is_fresh(c, 0);
+    for (int f : fresh_list) is_fresh[f] = 1;
+    for (int f : fresh_list)
+      for (int i = 0; i < c; ++i)
+        if (!is_fresh[i] || i < f) (*W)(f, i) = (*W)(i, f);
+    return;
+  }
   std::reverse(parts.begin(), parts.end());  // from the top of the chain down
   const int count = static_cast<int>(parts.size());
   // One sweep down the chain carries the columns S g_b of every part started
@@ -145,14 +240,14 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
     if (active > 0) {  // carry the transfer and the young columns down to node i
       const int young = active - settled_count;
       for (int node = parts[next - 1].node - 1; node >= i; --node) {
-        const Mat6& lt = inverse.lowerTransposed(node);
+        const Mat6& transfer = inverse.transfer(node);
         if (settled_count > 0) {
           T_above = T;
-          T.noalias() = -lt * T_above;
+          T.noalias() = transfer * T_above;
         }
         here.swap(above);  // (O(1): the buffers trade places)
         here.middleCols(settled_count, young).noalias() =
-            -lt * above.middleCols(settled_count, young);
+            transfer * above.middleCols(settled_count, young);
       }
     }
     const int started = active;  // columns of the parts above node i

@@ -23,7 +23,7 @@ Vec3 pairNormal(const Vec3& pa, const Vec3& ta, const Vec3& pb, const Vec3& tb) 
 }
 
 /// Pairs of points, at least one of them free, closer than the sum of their
-/// radii plus `margin`, from a grid of cells (sorted keys, no hashing). On
+/// radii plus `margin`, from a grid of cells (sorted keys). On
 /// one device only points more than 2 (r_a + r_b) plus two element lengths
 /// apart along it count (neighbours along a device always touch). Per pair
 /// of elements the closest pair only.
@@ -68,36 +68,55 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
     int a, b;
   };
   std::vector<Candidate> found;
-  for (int i = 0; i < n; ++i) {
-    const PointRef& a = pts[i];
-    const int64_t x = cellOf(a.p.x()), y = cellOf(a.p.y()), z = cellOf(a.p.z());
-    for (int64_t dz = -1; dz <= 1; ++dz)
-      for (int64_t dy = -1; dy <= 1; ++dy) {
-        const Row& row = rows[slot((z + dz) << 21 | (y + dy))];
+  // Each pair of cells is visited once: from a point, its own cell (points
+  // after it in the sorted order) and x + 1 in its row, and the rows
+  // (z, y + 1) and (z + 1, y - 1 ... y + 1) at x - 1 ... x + 1.
+  constexpr int kRows = 5;
+  constexpr int64_t kRowStep[kRows][2] = {{0, 0}, {0, 1}, {1, -1}, {1, 0}, {1, 1}};
+  for (int at = 0; at < n; ++at) {
+    const int i = sorted[at].second;
+    const int64_t key = sorted[at].first;
+    const int64_t x = key & ((int64_t{1} << 21) - 1), yz = key >> 21;
+    const int64_t y = yz & ((int64_t{1} << 21) - 1), z = yz >> 21;
+    for (int r = 0; r < kRows; ++r) {
+      int begin, end;
+      if (r == 0) {  // own row: from the next point on, up to x + 1
+        begin = at + 1;
+        end = n;
+      } else {
+        const Row& row = rows[slot((z + kRowStep[r][0]) << 21 | (y + kRowStep[r][1]))];
         if (row.key == -1) continue;
-        for (int k = row.begin; k < row.end; ++k) {
-          const int64_t xb = sorted[k].first & ((int64_t{1} << 21) - 1);
-          if (xb < x - 1) continue;
-          if (xb > x + 1) break;
-          const int j = sorted[k].second;
-          if (j <= i) continue;
-          const PointRef& b = pts[j];
-          if (!a.free && !b.free) continue;
-          if (a.in_lumen_of == b.device || b.in_lumen_of == a.device) continue;
-          const double dist = (a.p - b.p).norm();
-          if (dist >= a.r + b.r + margin || dist == 0.0) continue;
-          if (a.device == b.device) {
-            const double along = std::abs(a.s - b.s);
-            const double le = std::max(devices[a.device].elements[a.element].length,
-                                       devices[b.device].elements[b.element].length);
-            if (along <= 2.0 * (a.r + b.r) + 2.0 * le) continue;
-          }
-          const int64_t elements = static_cast<int64_t>(a.device) << 52 |
-                                   static_cast<int64_t>(a.element) << 32 |
-                                   static_cast<int64_t>(b.device) << 20 | b.element;
-          found.push_back({elements, dist, i, j});
-        }
+        begin = row.begin;
+        end = row.end;
       }
+      for (int k = begin; k < end; ++k) {
+        if (r == 0 && (sorted[k].first >> 21) != yz) break;
+        const int64_t xb = sorted[k].first & ((int64_t{1} << 21) - 1);
+        if (xb < x - 1) continue;
+        if (xb > x + 1) break;
+        const int j = sorted[k].second;
+        // a: the lower index (the contact's first point), as a scan in index
+        // order would make it.
+        const int ia = std::min(i, j), ib = std::max(i, j);
+        const PointRef& a = pts[ia];
+        const PointRef& b = pts[ib];
+        if (!a.free && !b.free) continue;
+        if (a.in_lumen_of == b.device || b.in_lumen_of == a.device) continue;
+        const double reach = a.r + b.r + margin;
+        const double dist2 = (a.p - b.p).squaredNorm();
+        if (dist2 >= reach * reach || dist2 == 0.0) continue;
+        if (a.device == b.device) {
+          const double along = std::abs(a.s - b.s);
+          const double le = std::max(devices[a.device].elements[a.element].length,
+                                     devices[b.device].elements[b.element].length);
+          if (along <= 2.0 * (a.r + b.r) + 2.0 * le) continue;
+        }
+        const int64_t elements = static_cast<int64_t>(a.device) << 52 |
+                                 static_cast<int64_t>(a.element) << 32 |
+                                 static_cast<int64_t>(b.device) << 20 | b.element;
+        found.push_back({elements, std::sqrt(dist2), ia, ib});
+      }
+    }
   }
   // Per pair of elements the closest (the first index pair on ties, as a
   // scan in index order would keep).
