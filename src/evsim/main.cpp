@@ -1,8 +1,10 @@
 // evsim: command-line runner on the core library (no ROS).
 //
-//   evsim run SCENE [--steps N] [--json] [--dump-lcp DIR]
+//   evsim run SCENE [--steps N] [--json] [--dump-lcp DIR] [--load-state F] [--save-state F]
 //                                          step a scene, print progress or JSON;
-//                                          write each step's last LCP to DIR
+//                                          write each step's last LCP to DIR;
+//                                          start from a saved state, save the last
+//                                          good one (also after a failed step)
 //   evsim mesh SCENE --out FILE [--spacing M] [--device-radius M]
 //                                          vessel surface as PLY or STL
 //   evsim bench SCENE [--steps N] [--warmup N] [--elements E] [--effects A,B]
@@ -26,6 +28,7 @@
 #include "endovascular_sim/geometry/surface_mesh.h"
 #include "endovascular_sim/scene/scene_file.h"
 #include "endovascular_sim/sim/simulation.h"
+#include "endovascular_sim/sim/state_file.h"
 #include "scene_variants.h"
 #include "step_json.h"
 
@@ -35,7 +38,8 @@ namespace {
 int usage(const char* why = nullptr) {
   if (why) std::cerr << "evsim: " << why << "\n";
   std::cerr << "usage:\n"
-               "  evsim run SCENE [--steps N] [--json] [--dump-lcp DIR]\n"
+               "  evsim run SCENE [--steps N] [--json] [--dump-lcp DIR] [--load-state FILE]\n"
+               "                  [--save-state FILE]\n"
                "                                         SCENE: a path or a shipped scene name\n"
                "  evsim mesh SCENE --out FILE.ply|.stl [--spacing M] [--device-radius M]\n"
                "  evsim bench SCENE [--steps N] [--warmup N] [--elements E] [--effects A,B]\n"
@@ -49,10 +53,14 @@ int runCommand(int argc, char** argv) {
   const std::string scene = argv[0];
   long steps = 1000;
   bool json = false;
-  std::string dump_dir;
+  std::string dump_dir, load_path, save_path;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--json")) {
       json = true;
+    } else if (!std::strcmp(argv[i], "--load-state") && i + 1 < argc) {
+      load_path = argv[++i];
+    } else if (!std::strcmp(argv[i], "--save-state") && i + 1 < argc) {
+      save_path = argv[++i];
     } else if (!std::strcmp(argv[i], "--dump-lcp") && i + 1 < argc) {
       dump_dir = argv[++i];
     } else if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) {
@@ -65,6 +73,12 @@ int runCommand(int argc, char** argv) {
   }
   const SceneModel model = loadScene(scene);
   SimData data = makeData(model);
+  if (!load_path.empty()) loadState(model, load_path, &data);  // LoadError: main prints it
+  auto save = [&]() {
+    if (save_path.empty() || saveState(model, data, save_path)) return true;
+    std::cerr << "evsim: cannot write " << save_path << "\n";
+    return false;
+  };
   if (!dump_dir.empty()) {
     std::filesystem::create_directories(dump_dir);
     data.record_lcp = true;
@@ -74,6 +88,7 @@ int runCommand(int argc, char** argv) {
   for (long k = 0; k < steps; ++k) {
     if (step(model, &data) != StepStatus::kOk) {
       std::cerr << "evsim: step " << data.step + 1 << " failed: " << data.last_error << "\n";
+      save();  // the last good state, to study the failing step from
       return 1;
     }
     for (const std::string& notice : data.notices) std::cerr << "evsim: " << notice << "\n";
@@ -95,11 +110,11 @@ int runCommand(int argc, char** argv) {
       std::cout << "t=" << data.time << " s  " << model.devices.front().name
                 << " inserted=" << d.inserted_length * 1e3 << " mm  tip=(" << tip.x() * 1e3 << ", "
                 << tip.y() * 1e3 << ", " << tip.z() * 1e3
-                << ") mm  contacts=" << data.stats.contacts << "  mean step " << wall_ms / data.step
+                << ") mm  contacts=" << data.stats.contacts << "  mean step " << wall_ms / (k + 1)
                 << " ms\n";
     }
   }
-  return 0;
+  return save() ? 0 : 1;
 }
 
 int benchCommand(int argc, char** argv) {

@@ -1,0 +1,221 @@
+#include "endovascular_sim/sim/state_file.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "endovascular_sim/core/load_error.h"
+
+namespace evsim {
+namespace {
+
+constexpr int kVersion = 1;
+
+/// One record per line: a key, then fields read in order; every error names
+/// the file, the line and the field.
+class Reader {
+ public:
+  explicit Reader(const std::string& path) : path_(path), in_(path) {
+    if (!in_) throw LoadError(path, 0, "", "cannot open the state file");
+  }
+
+  /// The next line, which must start with `key`.
+  void record(const std::string& key) {
+    std::string text;
+    if (!std::getline(in_, text)) fail(key, "missing (the file ends early)", line_ + 1);
+    ++line_;
+    fields_.clear();
+    fields_.str(text);
+    std::string got;
+    if (!(fields_ >> got) || got != key) fail(key, "expected a '" + key + "' record");
+  }
+
+  double real(const std::string& field) {
+    std::string token = word(field);
+    char* end = nullptr;
+    const double v = std::strtod(token.c_str(), &end);
+    if (*end != '\0' || !std::isfinite(v)) fail(field, "not a finite number: '" + token + "'");
+    return v;
+  }
+
+  long integer(const std::string& field, long lo, long hi) {
+    std::string token = word(field);
+    char* end = nullptr;
+    const long v = std::strtol(token.c_str(), &end, 10);
+    if (*end != '\0' || v < lo || v > hi)
+      fail(field, "expected a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                      "], got '" + token + "'");
+    return v;
+  }
+
+  Vec3 vec3(const std::string& field) {
+    Vec3 v;
+    for (int k = 0; k < 3; ++k) v(k) = real(field);
+    return v;
+  }
+
+  std::string word(const std::string& field) {
+    std::string token;
+    if (!(fields_ >> token)) fail(field, "missing");
+    return token;
+  }
+
+  /// Nothing may follow the record's last field.
+  void end(const std::string& key) {
+    std::string extra;
+    if (fields_ >> extra) fail(key, "unexpected '" + extra + "' after the record's fields");
+  }
+
+  [[noreturn]] void fail(const std::string& field, const std::string& message, int line = -1) {
+    throw LoadError(path_, line < 0 ? line_ : line, field, message);
+  }
+
+ private:
+  std::string path_;
+  std::ifstream in_;
+  std::istringstream fields_;
+  int line_{0};
+};
+
+void writeVec3(std::FILE* f, const Vec3& v) {
+  std::fprintf(f, " %.17g %.17g %.17g", v.x(), v.y(), v.z());
+}
+
+}  // namespace
+
+bool saveState(const SceneModel& model, const SimData& data, const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) return false;
+  std::fprintf(f, "evsim_state %d\nscene %s\nclock %.17g %ld %zu\n", kVersion, model.name.c_str(),
+               data.time, data.step, data.next_script_entry);
+  for (size_t d = 0; d < data.devices.size(); ++d) {
+    const DeviceState& s = data.devices[d];
+    std::fprintf(f, "device %s %zu %.17g %.17g %d %d\n", model.devices[d].name.c_str(),
+                 s.position.size(), s.inserted_length, s.rotation_angle, s.released ? 1 : 0,
+                 s.cut_element);
+    for (size_t i = 0; i < s.position.size(); ++i) {
+      std::fputs("node", f);
+      writeVec3(f, s.position[i]);
+      const Quat& q = s.rotation[i];
+      std::fprintf(f, " %.17g %.17g %.17g %.17g", q.w(), q.x(), q.y(), q.z());
+      writeVec3(f, s.velocity[i]);
+      writeVec3(f, s.angular_velocity[i]);
+      std::fputc('\n', f);
+    }
+  }
+  for (const DriveCommand& c : data.commands)
+    std::fprintf(f, "command %d %.17g %.17g\n", c.mode == DriveCommand::Mode::kPosition ? 1 : 0,
+                 c.insertion, c.rotation);
+  std::fprintf(f, "contacts %zu\n", data.contacts.size());
+  for (const Contact& c : data.contacts) {
+    std::fprintf(f, "contact %d %d", c.device, c.sample);
+    writeVec3(f, c.point);
+    writeVec3(f, c.normal);
+    std::fprintf(f, " %.17g %.17g %d %d", c.gap, c.force, c.other_device, c.other_sample);
+    writeVec3(f, c.friction);
+    std::fprintf(f, " %d %.17g %.17g %.17g %.17g %d\n", c.other.element, c.other.xi, c.other.radius,
+                 c.other.friction, c.separation, c.lumen ? 1 : 0);
+  }
+  const bool ok = !std::ferror(f);
+  return std::fclose(f) == 0 && ok;
+}
+
+void loadState(const SceneModel& model, const std::string& path, SimData* data) {
+  Reader r(path);
+  // Filled here, then moved in whole: on any error `data` is unchanged.
+  struct {
+    double time;
+    long step;
+    size_t next_script_entry;
+    std::vector<DeviceState> devices;
+    std::vector<DriveCommand> commands;
+    std::vector<Contact> contacts;
+  } next{0.0, 0, 0, data->devices, data->commands, {}};
+  r.record("evsim_state");
+  r.integer("version", kVersion, kVersion);
+  r.end("evsim_state");
+  r.record("scene");
+  const std::string scene = r.word("scene");
+  if (scene != model.name) r.fail("scene", "saved from '" + scene + "', not '" + model.name + "'");
+  r.end("scene");
+  r.record("clock");
+  next.time = r.real("time");
+  next.step = r.integer("step", 0, 1L << 50);
+  next.next_script_entry = static_cast<size_t>(
+      r.integer("next script entry", 0, static_cast<long>(model.script.size())));
+  r.end("clock");
+  const int nd = static_cast<int>(model.devices.size());
+  for (int d = 0; d < nd; ++d) {
+    DeviceState& s = next.devices[d];
+    r.record("device");
+    const std::string name = r.word("device name");
+    if (name != model.devices[d].name)
+      r.fail("device name", "'" + name + "', the scene's device " + std::to_string(d) + " is '" +
+                                model.devices[d].name + "'");
+    const long nodes = static_cast<long>(s.position.size());
+    r.integer("nodes", nodes, nodes);
+    s.inserted_length = r.real("inserted length");
+    s.rotation_angle = r.real("rotation angle");
+    s.released = r.integer("released", 0, 1) == 1;
+    s.cut_element = static_cast<int>(r.integer("cut element", -1, nodes - 2));
+    r.end("device");
+    for (long i = 0; i < nodes; ++i) {
+      r.record("node");
+      s.position[i] = r.vec3("position");
+      const double w = r.real("rotation"), x = r.real("rotation"), y = r.real("rotation"),
+                   z = r.real("rotation");
+      s.rotation[i] = Quat(w, x, y, z);
+      if (std::abs(s.rotation[i].norm() - 1.0) > 1e-9) r.fail("rotation", "not a unit quaternion");
+      s.velocity[i] = r.vec3("velocity");
+      s.angular_velocity[i] = r.vec3("angular velocity");
+      r.end("node");
+    }
+  }
+  for (int d = 0; d < nd; ++d) {
+    r.record("command");
+    DriveCommand& c = next.commands[d];
+    c.mode = r.integer("mode", 0, 1) == 1 ? DriveCommand::Mode::kPosition
+                                          : DriveCommand::Mode::kVelocity;
+    c.insertion = r.real("insertion");
+    c.rotation = r.real("rotation");
+    r.end("command");
+  }
+  r.record("contacts");
+  const long count = r.integer("contacts", 0, 1L << 24);
+  r.end("contacts");
+  next.contacts.assign(count, Contact{});
+  for (Contact& c : next.contacts) {
+    r.record("contact");
+    c.device = static_cast<int>(r.integer("device", 0, nd - 1));
+    c.sample = static_cast<int>(
+        r.integer("sample", 0, static_cast<long>(model.samples[c.device].size()) - 1));
+    c.point = r.vec3("point");
+    c.normal = r.vec3("normal");
+    c.gap = r.real("gap");
+    c.force = r.real("force");
+    c.other_device = static_cast<int>(r.integer("other device", -1, nd - 1));
+    const long other_samples =
+        c.other_device < 0 ? 0 : static_cast<long>(model.samples[c.other_device].size());
+    c.other_sample = static_cast<int>(r.integer("other sample", -1, other_samples - 1));
+    c.friction = r.vec3("friction");
+    const long other_elements =
+        c.other_device < 0 ? 1 : static_cast<long>(model.devices[c.other_device].elements.size());
+    c.other.element = static_cast<int>(r.integer("other element", 0, other_elements - 1));
+    c.other.xi = r.real("other xi");
+    c.other.radius = r.real("other radius");
+    c.other.friction = r.real("other mu");
+    c.separation = r.real("separation");
+    c.lumen = r.integer("lumen", 0, 1) == 1;
+    r.end("contact");
+  }
+  data->devices.swap(next.devices);
+  data->commands.swap(next.commands);
+  data->contacts.swap(next.contacts);
+  data->time = next.time;
+  data->step = next.step;
+  data->next_script_entry = next.next_script_entry;
+}
+
+}  // namespace evsim

@@ -1,0 +1,132 @@
+// A saved state resumes the run it came from bit for bit, and a bad state
+// file is refused naming its line and field, the data kept.
+#include "endovascular_sim/sim/state_file.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "endovascular_sim/core/load_error.h"
+
+namespace evsim {
+namespace {
+
+std::string tempPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("evsim_state_test_" + name)).string();
+}
+
+std::vector<std::string> readLines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+void writeLines(const std::string& path, const std::vector<std::string>& lines) {
+  std::ofstream out(path);
+  for (const std::string& line : lines) out << line << "\n";
+}
+
+/// Steps `data` n times, each step solved.
+void run(const SceneModel& model, SimData* data, int n) {
+  for (int k = 0; k < n; ++k) ASSERT_EQ(step(model, data), StepStatus::kOk) << data->last_error;
+}
+
+/// The coil of `aneurysm` after 300 steps: self-contacts and wall contacts
+/// with forces (the next step's warm start), a scripted drive under way.
+TEST(StateFile, AResumedRunMatchesTheUninterruptedOneBitForBit) {
+  const SceneModel model = loadScene("aneurysm");
+  SimData data = makeData(model);
+  run(model, &data, 300);
+  ASSERT_GT(data.contacts.size(), 0u);
+  const std::string path = tempPath("resume.txt");
+  ASSERT_TRUE(saveState(model, data, path));
+
+  SimData resumed = makeData(model);
+  loadState(model, path, &resumed);
+  EXPECT_EQ(resumed.step, data.step);
+  EXPECT_EQ(resumed.time, data.time);
+  run(model, &data, 60);
+  run(model, &resumed, 60);
+  ASSERT_EQ(resumed.devices.size(), data.devices.size());
+  for (size_t d = 0; d < data.devices.size(); ++d)
+    for (size_t i = 0; i < data.devices[d].position.size(); ++i) {
+      EXPECT_EQ(resumed.devices[d].position[i], data.devices[d].position[i]) << "node " << i;
+      EXPECT_EQ(resumed.devices[d].velocity[i], data.devices[d].velocity[i]) << "node " << i;
+    }
+  EXPECT_EQ(resumed.contacts.size(), data.contacts.size());
+  EXPECT_EQ(resumed.devices[0].inserted_length, data.devices[0].inserted_length);
+  std::filesystem::remove(path);
+}
+
+/// Each kind of damage is refused with the line and field, and the data
+/// loaded into stays as it was.
+TEST(StateFile, ABadFileIsRefusedNamingLineAndFieldAndTheDataIsKept) {
+  const SceneModel model = loadScene("aneurysm");
+  SimData data = makeData(model);
+  run(model, &data, 50);
+  const std::string good = tempPath("good.txt");
+  ASSERT_TRUE(saveState(model, data, good));
+  const std::vector<std::string> lines = readLines(good);
+  ASSERT_GT(lines.size(), 8u);
+  ASSERT_EQ(lines[4].rfind("node ", 0), 0u);
+
+  struct Damage {
+    std::string what;
+    std::vector<std::string> lines;
+    int line;
+    std::string field;
+  };
+  std::vector<Damage> damages;
+  {
+    std::vector<std::string> l = lines;
+    l[4].replace(5, l[4].find(' ', 5) - 5, "nan");  // the first node's x
+    damages.push_back({"a NaN position", l, 5, "position"});
+  }
+  {
+    std::vector<std::string> l = lines;
+    l[1] = "scene carotid";
+    damages.push_back({"another scene", l, 2, "scene"});
+  }
+  {
+    std::vector<std::string> l(lines.begin(), lines.begin() + 6);
+    damages.push_back({"a file cut short", l, 7, "node"});
+  }
+  {
+    std::vector<std::string> l = lines;
+    l[0] = "evsim_state 7";
+    damages.push_back({"a newer version", l, 1, "version"});
+  }
+  {
+    std::vector<std::string> l = lines;
+    l[4] += " 1.0";
+    damages.push_back({"a field too many", l, 5, "node"});
+  }
+  const std::string bad = tempPath("bad.txt");
+  SimData target = makeData(model);
+  const long step_before = target.step;
+  const std::vector<Vec3> position_before = target.devices[0].position;
+  for (const Damage& damage : damages) {
+    writeLines(bad, damage.lines);
+    try {
+      loadState(model, bad, &target);
+      ADD_FAILURE() << damage.what << " was accepted";
+    } catch (const LoadError& e) {
+      EXPECT_EQ(e.file(), bad) << damage.what;
+      EXPECT_EQ(e.line(), damage.line) << damage.what << ": " << e.what();
+      EXPECT_EQ(e.field(), damage.field) << damage.what << ": " << e.what();
+    }
+    EXPECT_EQ(target.step, step_before) << damage.what;
+    EXPECT_EQ(target.devices[0].position, position_before) << damage.what;
+  }
+  EXPECT_THROW(loadState(model, tempPath("absent.txt"), &target), LoadError);
+  std::filesystem::remove(good);
+  std::filesystem::remove(bad);
+}
+
+}  // namespace
+}  // namespace evsim
