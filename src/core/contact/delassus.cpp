@@ -79,16 +79,18 @@ void symmetrizeHalves(MatX* W) {
     }
 }
 
-/// A part's own column S g at its nodes: S_ii lo + S_{i,i+1} hi at node i
-/// (`here`), S_{i+1,i} lo + S_{i+1,i+1} hi at node i + 1 (`above`).
-void localColumn(const ChainInverse& inverse, const Part& p, Vec6* here, Vec6* above) {
-  const int i = p.node;
-  *here = inverse.diagonal(i) * p.lo;
-  above->setZero();
-  if (i + 1 < inverse.numBlocks()) {
-    here->noalias() += inverse.subdiagonal(i).transpose() * p.hi;
-    above->noalias() = inverse.subdiagonal(i) * p.lo + inverse.diagonal(i + 1) * p.hi;
-  }
+/// A part's own column S g at its first node i: S_ii lo + S_{i,i+1} hi.
+Vec6 columnHere(const ChainInverse& inverse, const Part& p) {
+  Vec6 here = inverse.diagonal(p.node) * p.lo;
+  if (p.node + 1 < inverse.numBlocks())
+    here.noalias() += inverse.subdiagonal(p.node).transpose() * p.hi;
+  return here;
+}
+
+/// The same column at node i + 1: S_{i+1,i} lo + S_{i+1,i+1} hi.
+Vec6 columnAbove(const ChainInverse& inverse, const Part& p) {
+  if (p.node + 1 >= inverse.numBlocks()) return Vec6::Zero();
+  return inverse.subdiagonal(p.node) * p.lo + inverse.diagonal(p.node + 1) * p.hi;
 }
 
 /// Adds to W(:, b.row), for every fresh part b, g_a^T S g_b of every part a
@@ -123,10 +125,8 @@ void addFreshColumns(const ChainInverse& inverse, const std::vector<Part>& parts
     }
     for (; started < f && parts[fresh_parts[f - 1 - started]].node == pa.node; ++started) {
       const int col = f - 1 - started;
-      Vec6 h, ab;
-      localColumn(inverse, parts[fresh_parts[col]], &h, &ab);
-      here.col(col) = h;
-      above.col(col) = ab;
+      here.col(col) = columnHere(inverse, parts[fresh_parts[col]]);
+      above.col(col) = columnAbove(inverse, parts[fresh_parts[col]]);
     }
     const int first = f - started;
     dots.head(started).noalias() = here.middleCols(first, started).transpose() * pa.lo +
@@ -147,9 +147,7 @@ void addFreshColumns(const ChainInverse& inverse, const std::vector<Part>& parts
         r.col(started) = pb.hi + inverse.transfer(node).transpose() * pb.lo;
       }
     }
-    Vec6 h, ab;
-    localColumn(inverse, pa, &h, &ab);
-    dots.head(started).noalias() = r.leftCols(started).transpose() * h;
+    dots.head(started).noalias() = r.leftCols(started).transpose() * columnHere(inverse, pa);
     for (int k = 0; k < started; ++k) W->col(parts[fresh_parts[k]].row)(pa.row) += dots(k);
   }
 }

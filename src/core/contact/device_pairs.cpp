@@ -35,7 +35,7 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
   // Cell key (z, y, x), x least significant: the points sorted by key lie
   // row by row ((z, y) fixed), each row in x order. A hash of the rows
   // (open addressing) gives each row's range; the neighbours of a point are
-  // in 9 rows, at x - 1 ... x + 1.
+  // in 9 rows, at x - 1 ... x + 1 (of which the scan below visits half).
   auto cellOf = [cell](double v) { return static_cast<int64_t>(std::floor(v / cell)) + (1 << 20); };
   const int n = static_cast<int>(pts.size());
   std::vector<std::pair<int64_t, int>> sorted(n);  // (cell key, point)
