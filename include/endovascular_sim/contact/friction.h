@@ -64,13 +64,13 @@ struct FrictionStats {
 /// Solves the problem; r (size 3c) is the warm start when it has the right
 /// size (zero otherwise) and receives the forces [N]. kIterationLimit when
 /// the residual is still above the tolerance after max_sweeps.
-LcpStatus solveFrictionalContact(const MatX& W, const VecX& q, const VecX& mu,
+LcpStatus solveFrictionalContact(const MatXView& W, const VecX& q, const VecX& mu,
                                  const FrictionOptions& options, VecX* r,
                                  FrictionStats* stats = nullptr);
 
 /// Siconos' fc3d error: sqrt(sum_i |r_i - P_K(r_i - u^_i)|^2) / |q|, with
 /// u^_i = u_i + mu |u_t,i| e_n (De Saxce) and P_K the projection on the cone
 /// |r_t| <= mu r_n; 0 when q = 0 and r = 0.
-double frictionResidual(const MatX& W, const VecX& q, const VecX& mu, const VecX& r);
+double frictionResidual(const MatXView& W, const VecX& q, const VecX& mu, const VecX& r);
 
 }  // namespace evsim

@@ -58,11 +58,11 @@ struct LcpStats {
 /// Solves the LCP (W: c x c, q: c). z is read as the warm start when
 /// options.warm_start is set and it has size c, then resized; on kFailed it
 /// is zero.
-LcpStatus solveLcp(const MatX& W, const VecX& q, const LcpOptions& options, VecX* z,
+LcpStatus solveLcp(const MatXView& W, const VecX& q, const LcpOptions& options, VecX* z,
                    LcpStats* stats = nullptr);
 
 /// |z - max(0, z - w)| / |q| with w = W z + q (Siconos' LCP error measure);
 /// 0 for q = 0 and z = 0.
-double lcpResidual(const MatX& W, const VecX& q, const VecX& z);
+double lcpResidual(const MatXView& W, const VecX& q, const VecX& z);
 
 }  // namespace evsim

@@ -16,5 +16,7 @@ using Mat12 = Eigen::Matrix<double, 12, 12>;
 using Quat = Eigen::Quaterniond;
 using VecX = Eigen::VectorXd;
 using MatX = Eigen::MatrixXd;
+/// A read-only view of a column-major matrix or of a block of one (no copy).
+using MatXView = Eigen::Ref<const MatX>;
 
 }  // namespace evsim

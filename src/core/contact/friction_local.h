@@ -16,16 +16,17 @@ Vec3 projectOnCone(const Vec3& r, double mu);
 /// One Gauss-Seidel sweep: each contact's exact solution of its 3 x 3
 /// problem with the others' forces fixed. `block` holds the diagonal blocks
 /// of W (regularised).
-void gaussSeidelSweep(const MatX& W, const VecX& q, const VecX& mu, const std::vector<Mat3>& block,
-                      VecX* r);
+void gaussSeidelSweep(const MatXView& W, const VecX& q, const VecX& mu,
+                      const std::vector<Mat3>& block, VecX* r);
 
 /// frictionResidual with the velocities u = W r + q already known.
 double residualAt(const VecX& q, const VecX& mu, const VecX& r, const VecX& u);
 
 /// The Newton solver (friction_newton.cpp): at most max_steps steps from r;
 /// adds its steps to stats->sweeps and leaves the last residual there.
-LcpStatus solveNewton(const MatX& W, const VecX& q, const VecX& mu, const std::vector<Mat3>& block,
-                      double eps, int max_steps, double tolerance, VecX* r, FrictionStats* stats);
+LcpStatus solveNewton(const MatXView& W, const VecX& q, const VecX& mu,
+                      const std::vector<Mat3>& block, double eps, int max_steps, double tolerance,
+                      VecX* r, FrictionStats* stats);
 
 }  // namespace friction
 }  // namespace evsim

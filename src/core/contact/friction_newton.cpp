@@ -61,7 +61,7 @@ AcBlock alartCurnier(const Vec3& r, const Vec3& u, double mu, double rho_n, doub
 
 class NewtonSolver {
  public:
-  NewtonSolver(const MatX& W, const VecX& mu, double eps)
+  NewtonSolver(const MatXView& W, const VecX& mu, double eps)
       : W_(W), mu_(mu), c_(static_cast<int>(mu.size())), D_(c_) {
     // The Jacobian of sticking contacts is rho W: singular for redundant
     // contacts (a thread wrapped on a cylinder: cond W ~ 1e17). The step is
@@ -122,7 +122,7 @@ class NewtonSolver {
   }
 
  private:
-  const MatX& W_;
+  MatXView W_;
   const VecX& mu_;
   int c_;
   double shift_{0.0};
@@ -132,8 +132,9 @@ class NewtonSolver {
 
 }  // namespace
 
-LcpStatus solveNewton(const MatX& W, const VecX& q, const VecX& mu, const std::vector<Mat3>& block,
-                      double eps, int max_steps, double tolerance, VecX* r, FrictionStats* st) {
+LcpStatus solveNewton(const MatXView& W, const VecX& q, const VecX& mu,
+                      const std::vector<Mat3>& block, double eps, int max_steps, double tolerance,
+                      VecX* r, FrictionStats* st) {
   const int n = static_cast<int>(q.size());
   NewtonSolver newton(W, mu, eps);
   VecX u(n), phi(n), trial(n), trial_u(n), trial_phi(n);
