@@ -30,19 +30,20 @@ struct ContactSpace {
   VecX q;
 };
 
-/// c contacts at random points of a bent 200-element nitinol wire, normals
-/// across the wire, penetrations up to 50 um (a third of them separating).
-ContactSpace& space(int c) {
-  static std::map<int, ContactSpace> cache;
-  auto it = cache.find(c);
+/// c contacts at random points of a bent nitinol wire (200 elements unless
+/// told), normals across the wire, penetrations up to 50 um (a third of them
+/// separating).
+ContactSpace& space(int c, int elements = 200) {
+  static std::map<std::pair<int, int>, ContactSpace> cache;
+  auto it = cache.find({c, elements});
   if (it != cache.end()) return it->second;
-  ContactSpace& s = cache[c];
+  ContactSpace& s = cache[{c, elements}];
   BeamSection sec;
   sec.young_modulus = 60e9;
   sec.shear_modulus = 60e9 / 2.66;
   sec.outer_radius = 1.78e-4;
   sec.density = 6450;
-  s.model = buildDeviceModel(straightDeviceSpec("wire", sec, 0.4, 200));
+  s.model = buildDeviceModel(straightDeviceSpec("wire", sec, 0.002 * elements, elements));
   Introducer intro;
   s.state = placeDevice(s.model, intro, s.model.length - 0.002, 0.0);
   for (int i = 0; i < s.model.num_nodes; ++i) s.state.position[i].y() += 0.01 * std::sin(0.03 * i);
@@ -96,6 +97,31 @@ void BM_DelassusChain(benchmark::State& st) {
   }
   st.counters["c"] = static_cast<double>(st.range(0));
   st.counters["difference"] = (W - s.W).norm() / s.W.norm();  // to the block solve's
+}
+
+/// A loop's update of W on a 625-element chain (the packed coil's) with c
+/// rows (range(0)), the last f of them fresh (range(1)), by either path
+/// (range(2): 0 the fresh columns alone, 1 one sweep, 2 the automatic
+/// choice): where the automatic choice should switch.
+void BM_DelassusUpdate(benchmark::State& st) {
+  const int c = static_cast<int>(st.range(0)), fresh = static_cast<int>(st.range(1));
+  ContactSpace& s = space(c, 625);
+  const DelassusUpdate path = st.range(2) == 0   ? DelassusUpdate::kFreshColumns
+                              : st.range(2) == 1 ? DelassusUpdate::kSweep
+                                                 : DelassusUpdate::kAutomatic;
+  ChainInverse inverse;
+  inverse.compute(s.ws.system, s.ws.first_free_node);
+  MatX full;
+  chainDelassusOperator(inverse, s.rows, &full);
+  DelassusBuffer W;  // as in the contact solver: the capacity is there
+  W.storage = full;
+  for (auto _ : st) {
+    W.size = c - fresh;  // the kept block holds its final entries
+    updateChainDelassusOperator(inverse, s.rows, std::vector<char>(), &W, path);
+    benchmark::DoNotOptimize(W.storage.data());
+  }
+  st.counters["fresh"] = fresh;
+  st.counters["difference"] = (W.view() - full).norm() / full.norm();
 }
 
 void BM_DelassusSeparateSolves(benchmark::State& st) {
@@ -225,6 +251,9 @@ BENCHMARK(BM_SceneSiconosPivot) SCENE_SIZES;
   ->Arg(10)->Arg(50)->Arg(100)->Arg(200)->Arg(400)->Unit(benchmark::kMicrosecond)
 BENCHMARK(BM_DelassusChain) CONTACT_SIZES;
 BENCHMARK(BM_DelassusBlockSolve) CONTACT_SIZES;
+BENCHMARK(BM_DelassusUpdate)
+    ->ArgsProduct({{100, 300, 500}, {1, 5, 10, 20, 40, 80}, {0, 1, 2}})
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_DelassusSeparateSolves) CONTACT_SIZES;
 BENCHMARK(BM_StatusMethod) CONTACT_SIZES;
 BENCHMARK(BM_Lemke) CONTACT_SIZES;

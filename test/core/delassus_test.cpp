@@ -133,28 +133,30 @@ TEST(ChainDelassus, AnUpdateAfterSomeRowsChangedMatchesTheDenseOperator) {
   chainDelassusOperator(inverse, before, &W_before);
   const std::vector<ContactRow> more = rowsOfEveryKind(nb, &rng);
   // Few fresh rows (a single and a self contact changed, 6 new: 8 of 37),
-  // then many (16 changed and 6 new).
+  // then many (16 changed and 6 new), each by both paths of the update.
   const std::vector<std::vector<int>> changes = {
       {17, 28}, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 17, 21, 26, 28, 30}};
-  for (const std::vector<int>& change : changes) {
-    std::vector<ContactRow> after = before;
-    std::vector<char> changed(before.size(), 0);
-    for (int r : change) {
-      for (int part = 0; part < after[r].parts; ++part) after[r].h[part] = randomRow(&rng);
-      changed[r] = 1;
+  for (const DelassusUpdate path : {DelassusUpdate::kFreshColumns, DelassusUpdate::kSweep})
+    for (const std::vector<int>& change : changes) {
+      std::vector<ContactRow> after = before;
+      std::vector<char> changed(before.size(), 0);
+      for (int r : change) {
+        for (int part = 0; part < after[r].parts; ++part) after[r].h[part] = randomRow(&rng);
+        changed[r] = 1;
+      }
+      after.insert(after.end(), more.begin(), more.begin() + 6);  // new rows
+      MatX W = W_before;
+      updateChainDelassusOperator(inverse, after, changed, &W, path);
+      const MatX H = denseH(after, n);
+      const MatX dense = H * A.toDense().bottomRightCorner(n, n).llt().solve(H.transpose());
+      EXPECT_LT((W - dense).norm(), 1e-12 * dense.norm())
+          << change.size() << " changed, path " << static_cast<int>(path);
+      EXPECT_EQ(W, W.transpose());
+      changed[17] = 0;  // a changed row taken as unchanged: its old entries stay
+      MatX stale = W_before;
+      updateChainDelassusOperator(inverse, after, changed, &stale, path);
+      EXPECT_GT((stale - dense).norm(), 1e-3 * dense.norm());
     }
-    after.insert(after.end(), more.begin(), more.begin() + 6);  // new rows
-    MatX W = W_before;
-    updateChainDelassusOperator(inverse, after, changed, &W);
-    const MatX H = denseH(after, n);
-    const MatX dense = H * A.toDense().bottomRightCorner(n, n).llt().solve(H.transpose());
-    EXPECT_LT((W - dense).norm(), 1e-12 * dense.norm()) << change.size() << " changed";
-    EXPECT_EQ(W, W.transpose());
-    changed[17] = 0;  // a changed row taken as unchanged: its old entries stay
-    MatX stale = W_before;
-    updateChainDelassusOperator(inverse, after, changed, &stale);
-    EXPECT_GT((stale - dense).norm(), 1e-3 * dense.norm());
-  }
 }
 
 TEST(ChainDelassus, MatchesDenseAndBlockSolveForEveryKindOfRow) {

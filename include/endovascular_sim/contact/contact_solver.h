@@ -28,7 +28,9 @@
 // keep their entries (contact/delassus.h). Below 16 rows, where the band's
 // O(n) cost dominates, from one block solve Y = A^-1 H^T with the stored
 // CHOLMOD factor. The correction A^-1 H^T lambda is Y lambda, or one solve
-// with the factor.
+// with the block LDL^T the band came from; A + C for a device with the band
+// is factorised there alone (its free motion solved with it), not also by
+// CHOLMOD.
 #pragma once
 
 #include <string>

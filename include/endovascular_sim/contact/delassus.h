@@ -44,14 +44,38 @@ void delassusOperator(SparseCholesky& cholesky, const std::vector<ContactRow>& r
 void chainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
                            MatX* W);
 
+/// One device's W kept across the loops of a step: the c x c operator is
+/// the top-left corner of `storage`, whose capacity grows by half when the
+/// rows outgrow it, so the rows a loop adds cost no copy of the kept
+/// entries (a copy of c^2 entries per loop, with its page faults, was 3-4 %
+/// of the packed coil's step).
+struct DelassusBuffer {
+  MatX storage;  // capacity x capacity
+  int size{0};   // c
+  Eigen::Block<MatX> matrix() { return storage.topLeftCorner(size, size); }
+  MatXView view() const { return storage.topLeftCorner(size, size); }
+};
+
+/// How the update reaches the fresh rows' entries: chosen by their share
+/// (automatic), or forced (benchmarks, tests): their columns alone, carried
+/// down and their rows up the chain, or one sweep carrying every column.
+enum class DelassusUpdate { kAutomatic, kFreshColumns, kSweep };
+
 /// The same W after some rows changed, the inverse unchanged, in place: on
-/// entry *W is the operator of its first W->rows() rows (at most
+/// entry W holds the operator of its first W->size rows (at most
 /// rows.size()); of those, the rows with fresh_rows[i] != 0 changed (rows
 /// beyond are new). Entries between two unchanged rows are kept; only the
 /// others are computed (O(n k + c k) for k fresh rows, against
 /// O(n + c^2)).
 void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
-                                 const std::vector<char>& fresh_rows, MatX* W);
+                                 const std::vector<char>& fresh_rows, DelassusBuffer* W,
+                                 DelassusUpdate path = DelassusUpdate::kAutomatic);
+
+/// The same on an exactly sized W (W->rows() kept rows on entry, c on
+/// return).
+void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
+                                 const std::vector<char>& fresh_rows, MatX* W,
+                                 DelassusUpdate path = DelassusUpdate::kAutomatic);
 
 /// H^T lambda over the free DOFs (n): the generalised force of the rows.
 VecX contactForce(int n, const std::vector<ContactRow>& rows, const VecX& lambda);

@@ -196,17 +196,27 @@ bool sameRow(const ContactRow& a, const ContactRow& b) {
 }
 
 /// C (contact/wall_curvature.h) of the wall contacts with a force, per
-/// device; A + C factorised into the workspace's `curved` factor and system.
-/// (*curved)[d] says whether device d has such a term (else A alone).
+/// device; A + C into the workspace's `curved_system`. (*curved)[d] says
+/// whether device d has such a term (else A alone). A + C is factorised
+/// where W will need it: for a device with at least kChainDelassusMinRows
+/// contacts, its band (ws.inverse, whose block LDL^T also serves the
+/// solves; (*band_of_curved)[d] = 1, or -1 when that failed and the band
+/// no longer holds anything), else CHOLMOD's `curved` factor.
 void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& contacts,
                          const std::vector<DeviceState>& x, std::vector<ChainMatrix>* C,
-                         std::vector<char>* curved) {
+                         std::vector<char>* curved, std::vector<char>* band_of_curved) {
   const auto& devices = *pb.devices;
   auto& ws = *pb.workspaces;
   const auto& samples = *pb.samples;
   const size_t nd = devices.size();
   C->assign(nd, ChainMatrix());
   curved->assign(nd, 0);
+  band_of_curved->assign(nd, 0);
+  std::vector<int> rows(nd, 0);  // contacts with a part on each device (its rows of H)
+  for (const Contact& ct : contacts) {
+    ++rows[ct.device];
+    if (ct.other_device >= 0 && ct.other_device != ct.device) ++rows[ct.other_device];
+  }
   for (const Contact& ct : contacts) {
     if (ct.other_device >= 0 || !(ct.force > 0.0)) continue;
     const int d = ct.device;
@@ -244,18 +254,28 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
       w.curved.analyze(w.pattern.size, w.pattern.col_ptr, w.pattern.row_idx);
       w.curved_size = n;
     }
-    w.pattern.gather(Ac, &w.curved_values);
     // (C is positive semi-definite, so this should not fail; if it does, A.)
+    if (rows[d] >= kChainDelassusMinRows) {
+      if (w.inverse.compute(Ac, w.first_free_node)) {
+        (*curved)[d] = (*band_of_curved)[d] = 1;
+        continue;
+      }
+      (*band_of_curved)[d] = -1;
+    }
+    w.pattern.gather(Ac, &w.curved_values);
     (*curved)[d] = w.curved.factorize(w.curved_values) ? 1 : 0;
   }
 }
 
 /// The QP step's free motion about the iterate dq for the devices with a
 /// curvature term: (*dq_step)[d] = (A + C)^-1 (A dq_free + C dq_k), and
-/// their factor that of A + C. Others keep A and dq_free.
+/// their factor that of A + C. Others keep A and dq_free. The solve uses
+/// the band's block LDL^T where it holds A + C (band_of_curved[d]), else
+/// CHOLMOD's factor.
 void curvedFreeMotion(const ContactProblem& pb, const std::vector<ChainMatrix>& C,
-                      const std::vector<char>& curved, const std::vector<VecX>& dq,
-                      std::vector<VecX>* dq_step, std::vector<SparseCholesky*>* factor) {
+                      const std::vector<char>& curved, const std::vector<char>& band_of_curved,
+                      const std::vector<VecX>& dq, std::vector<VecX>* dq_step,
+                      std::vector<SparseCholesky*>* factor) {
   auto& ws = *pb.workspaces;
   for (size_t d = 0; d < curved.size(); ++d) {
     if (!curved[d]) continue;
@@ -265,7 +285,10 @@ void curvedFreeMotion(const ContactProblem& pb, const std::vector<ChainMatrix>& 
     free.head(held).setZero();
     iterate.head(held).setZero();
     VecX rhs = (w.system.multiply(free) + C[d].multiply(iterate)).tail(n);
-    w.curved.solveInPlace(&rhs);
+    if (band_of_curved[d])
+      w.inverse.solveInPlace(&rhs);
+    else
+      w.curved.solveInPlace(&rhs);
     (*dq_step)[d].tail(n) = rhs;
     (*factor)[d] = &w.curved;
   }
@@ -423,7 +446,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   // Per device the rows and W of the last loop that used the band (reused
   // while the band stays).
   std::vector<std::vector<ContactRow>> last_rows(nd);
-  std::vector<MatX> last_W(nd);
+  std::vector<DelassusBuffer> last_W(nd);
   std::vector<char> curved(nd, 0);  // device d steps with A + C
   for (int loop = 1; loop <= o.max_activation_loops && !solved; ++loop) {
     st->activation_loops = loop;
@@ -441,18 +464,26 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       // later loops keep it (and the band of (A + C)^-1): at the answer
       // dq = dq_k, so C shapes the path, not the step's solution.
       if (loop <= o.curvature_loops) {
-        factorWallCurvature(pb, *contacts, x, &curvature, &curved);
-        for (size_t d = 0; d < nd; ++d)
-          if (band[d] == Band::kOfCurved) band[d] = Band::kNone;
+        std::vector<char> band_computed;
+        factorWallCurvature(pb, *contacts, x, &curvature, &curved, &band_computed);
+        for (size_t d = 0; d < nd; ++d) {
+          if (band[d] == Band::kOfCurved || band_computed[d] != 0) {
+            band[d] = band_computed[d] == 1 ? Band::kOfCurved : Band::kNone;
+            last_rows[d].clear();  // W of another matrix: nothing to reuse
+            last_W[d].size = 0;
+          }
+        }
       }
-      curvedFreeMotion(pb, curvature, curved, dq, &dq_step, &factor);
+      std::vector<char> band_of_curved(nd);
+      for (size_t d = 0; d < nd; ++d) band_of_curved[d] = band[d] == Band::kOfCurved;
+      curvedFreeMotion(pb, curvature, curved, band_of_curved, dq, &dq_step, &factor);
     }
     st->curvature_ms += msSince(t0);
 
     // --- Delassus operator W = H A^-1 H^T, q = H x_f - delta ---------------
     t0 = Clock::now();
-    MatX W_sum;              // m x m, once a device's part is added
-    const MatX* W = &W_sum;  // or one device's operator (its rows are all rows)
+    MatX W_sum;                                // m x m, once a device's part is added
+    const DelassusBuffer* W_device = nullptr;  // or one device's operator (its rows are all rows)
     VecX q(m), mu(o.friction ? c : 0);
     // Parts of each row per device: (row, sample, signed row of H).
     struct Part {
@@ -527,7 +558,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         }
       }
       MatX Wd;
-      const MatX* Wdev = &Wd;  // this device's operator
+      const DelassusBuffer* kept = nullptr;  // the device's operator, kept for the next loop
       if (static_cast<int>(device_rows.size()) < kChainDelassusMinRows) {
         delassusOperator(*factor[d], device_rows, &Y[d], &Wd);
       } else {
@@ -538,7 +569,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
           if (!ws[d].inverse.compute(A, ws[d].first_free_node)) return false;
           band[d] = wanted;
           last_rows[d].clear();  // nothing to reuse
-          last_W[d].resize(0, 0);
+          last_W[d].size = 0;
         }
         Y[d].resize(0, 0);
         // Rows unchanged since the last loop (same normal, and for a sample
@@ -549,27 +580,29 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
           changed[r] = !sameRow(before[r], device_rows[r]);
         updateChainDelassusOperator(ws[d].inverse, device_rows, changed, &last_W[d]);
         last_rows[d] = device_rows;
-        Wdev = &last_W[d];  // kept for the next loop
+        kept = &last_W[d];
       }
+      const MatXView Wdev = kept ? kept->view() : MatXView(Wd);  // this device's operator
       const auto& idx = of_device[d];
-      bool identity = W == &W_sum && W_sum.size() == 0 && static_cast<int>(idx.size()) == m;
+      bool identity = !W_device && W_sum.size() == 0 && static_cast<int>(idx.size()) == m;
       for (size_t a = 0; a < idx.size() && identity; ++a) identity = idx[a] == static_cast<int>(a);
       if (identity) {  // one device holds every row, in order: W is its operator
-        if (Wdev == &Wd)
-          W_sum.swap(Wd);
+        if (kept)
+          W_device = kept;  // last_W[d], unchanged until the next loop
         else
-          W = Wdev;  // last_W[d], unchanged until the next loop
+          W_sum.swap(Wd);
         continue;
       }
-      if (W != &W_sum) {  // a device before held every row, and this one shares some
-        W_sum = *W;
-        W = &W_sum;
+      if (W_device) {  // a device before held every row, and this one shares some
+        W_sum = W_device->view();
+        W_device = nullptr;
       }
       if (W_sum.size() == 0) W_sum = MatX::Zero(m, m);
       for (size_t b = 0; b < idx.size(); ++b)  // column by column (W is column-major)
-        for (size_t a = 0; a < idx.size(); ++a) W_sum(idx[a], idx[b]) += (*Wdev)(a, b);
+        for (size_t a = 0; a < idx.size(); ++a) W_sum(idx[a], idx[b]) += Wdev(a, b);
     }
-    if (W->size() == 0) W_sum = MatX::Zero(m, m);  // (W points to W_sum)
+    if (!W_device && W_sum.size() == 0) W_sum = MatX::Zero(m, m);
+    const MatXView W = W_device ? W_device->view() : MatXView(W_sum);
     st->delassus_ms += msSince(t0);
 
     // --- Status method (or the chosen solver; NSGS with friction) -----------
@@ -584,7 +617,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
             tangents[i][1].dot(ct.friction);
       }
       FrictionStats fs;
-      status = solveFrictionalContact(*W, q, mu, o.friction_solver, &lambda, &fs);
+      status = solveFrictionalContact(W, q, mu, o.friction_solver, &lambda, &fs);
       st->lcp_iterations += fs.sweeps;
       st->lcp_residual = fs.residual;
       st->sliding_contacts = fs.sliding;
@@ -597,13 +630,13 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       LcpOptions lo = o.lcp;
       lo.warm_start = true;
       LcpStats ls;
-      status = solveLcp(*W, q, lo, &lambda, &ls);
+      status = solveLcp(W, q, lo, &lambda, &ls);
       st->lcp_iterations += ls.iterations;
       st->lcp_residual = ls.residual;
     }
     st->lcp_ms += msSince(t0);
     st->contacts = c;
-    if (pb.record) *pb.record = {*W, q, lambda, mu};
+    if (pb.record) *pb.record = {MatX(W), q, lambda, mu};
     if (status != LcpStatus::kSolved) return false;  // the caller subdivides
 
     // --- Correction x = x_f + A^-1 H^T lambda --------------------------------

@@ -31,9 +31,13 @@ void delassusOperator(SparseCholesky& cholesky, const std::vector<ContactRow>& r
 
 namespace {
 
-/// The update computes only the fresh rows' columns when at most one row in
-/// kFreshColumnsShare is fresh (else one sweep with every column).
-constexpr int kFreshColumnsShare = 4;
+/// The update computes only the fresh rows' columns when there are at most
+/// (c + kFreshColumnsBase) / kFreshColumnsPerRow of c rows (else one sweep
+/// with every column). BM_DelassusUpdate on the packed coil's 625-element
+/// chain: the two paths cost the same at about 7, 12-16 and 20-24 fresh rows
+/// of 100, 300 and 500.
+constexpr int kFreshColumnsBase = 100;
+constexpr int kFreshColumnsPerRow = 25;
 
 /// One part of a row on the nodes (node, node + 1) of the free chain.
 struct Part {
@@ -64,17 +68,17 @@ std::vector<Part> sortedParts(const std::vector<ContactRow>& rows, int blocks) {
 /// W + W^T off the diagonal, the diagonal kept: each pair was added to one
 /// half only. In 32 x 32 tiles (the transpose's reads stay in cache);
 /// exactly symmetric.
-void symmetrizeHalves(MatX* W) {
+void symmetrizeHalves(Eigen::Ref<MatX> W) {
   constexpr int kTile = 32;
-  const int c = static_cast<int>(W->rows());
+  const int c = static_cast<int>(W.rows());
   for (int j0 = 0; j0 < c; j0 += kTile)
     for (int i0 = j0; i0 < c; i0 += kTile) {
       const int jn = std::min(kTile, c - j0), in = std::min(kTile, c - i0);
       for (int j = j0; j < j0 + jn; ++j)
         for (int i = std::max(i0, j + 1); i < i0 + in; ++i) {
-          const double sum = (*W)(i, j) + (*W)(j, i);
-          (*W)(i, j) = sum;
-          (*W)(j, i) = sum;
+          const double sum = W(i, j) + W(j, i);
+          W(i, j) = sum;
+          W(j, i) = sum;
         }
     }
 }
@@ -104,7 +108,7 @@ Vec6 columnAbove(const ChainInverse& inverse, const Part& p) {
 ///    part a above b's node: g_b^T S g_a = r_b(i) . (S g_a)(i).
 /// Every pair (a, b fresh) once; the caller mirrors the fresh columns.
 void addFreshColumns(const ChainInverse& inverse, const std::vector<Part>& parts,
-                     const std::vector<int>& fresh_parts, MatX* W) {
+                     const std::vector<int>& fresh_parts, Eigen::Ref<MatX> W) {
   using Mat6X = Eigen::Matrix<double, 6, Eigen::Dynamic>;
   const int f = static_cast<int>(fresh_parts.size());
   const int count = static_cast<int>(parts.size());
@@ -131,7 +135,7 @@ void addFreshColumns(const ChainInverse& inverse, const std::vector<Part>& parts
     const int first = f - started;
     dots.head(started).noalias() = here.middleCols(first, started).transpose() * pa.lo +
                                    above.middleCols(first, started).transpose() * pa.hi;
-    for (int k = 0; k < started; ++k) W->col(parts[fresh_parts[first + k]].row)(pa.row) += dots(k);
+    for (int k = 0; k < started; ++k) W.col(parts[fresh_parts[first + k]].row)(pa.row) += dots(k);
   }
   // Up: rows of the fresh parts strictly below each part a.
   Mat6X r(6, f);
@@ -148,7 +152,7 @@ void addFreshColumns(const ChainInverse& inverse, const std::vector<Part>& parts
       }
     }
     dots.head(started).noalias() = r.leftCols(started).transpose() * columnHere(inverse, pa);
-    for (int k = 0; k < started; ++k) W->col(parts[fresh_parts[k]].row)(pa.row) += dots(k);
+    for (int k = 0; k < started; ++k) W.col(parts[fresh_parts[k]].row)(pa.row) += dots(k);
   }
 }
 
@@ -161,10 +165,26 @@ void chainDelassusOperator(const ChainInverse& inverse, const std::vector<Contac
 }
 
 void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
-                                 const std::vector<char>& fresh_rows, MatX* W) {
+                                 const std::vector<char>& fresh_rows, MatX* W,
+                                 DelassusUpdate path) {
+  DelassusBuffer buffer;
+  if (W->rows() == W->cols()) {
+    buffer.storage.swap(*W);
+    buffer.size = static_cast<int>(buffer.storage.rows());
+  }
+  updateChainDelassusOperator(inverse, rows, fresh_rows, &buffer, path);
+  if (buffer.storage.rows() == buffer.size)
+    W->swap(buffer.storage);
+  else
+    *W = buffer.view();
+}
+
+void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
+                                 const std::vector<char>& fresh_rows, DelassusBuffer* buffer,
+                                 DelassusUpdate path) {
   const int c = static_cast<int>(rows.size());
-  if (W->rows() > c || W->rows() != W->cols()) W->resize(0, 0);  // nothing to keep
-  const int kept_rows = static_cast<int>(W->rows());
+  if (buffer->size > c) buffer->size = 0;  // nothing to keep
+  const int kept_rows = buffer->size;
   auto fresh = [&](int row) {
     return row >= kept_rows || (row < static_cast<int>(fresh_rows.size()) && fresh_rows[row]);
   };
@@ -173,21 +193,29 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
   std::vector<int> fresh_list;
   for (int i = 0; i < c; ++i)
     if (fresh(i)) fresh_list.push_back(i);
-  if (kept_rows < c) {  // grown: the kept block copied once, the rest zero
-    MatX grown(c, c);
-    grown.topLeftCorner(kept_rows, kept_rows) = W->topLeftCorner(kept_rows, kept_rows);
-    grown.bottomRows(c - kept_rows).setZero();
-    grown.topRightCorner(kept_rows, c - kept_rows).setZero();
-    W->swap(grown);
+  if (c > buffer->storage.rows()) {  // beyond the capacity: the kept block copied once
+    const int capacity = std::max(c, static_cast<int>(3 * buffer->storage.rows() / 2));
+    MatX grown(capacity, capacity);
+    grown.topLeftCorner(kept_rows, kept_rows) = buffer->storage.topLeftCorner(kept_rows, kept_rows);
+    buffer->storage.swap(grown);
+  }
+  buffer->size = c;
+  Eigen::Block<MatX> W = buffer->matrix();
+  if (kept_rows < c) {  // the added rows and columns start at zero
+    W.bottomRows(c - kept_rows).setZero();
+    W.topRightCorner(kept_rows, c - kept_rows).setZero();
   }
   for (int f : fresh_list) {
     if (f >= kept_rows) break;
-    W->row(f).head(kept_rows).setZero();
-    W->col(f).head(kept_rows).setZero();
+    W.row(f).head(kept_rows).setZero();
+    W.col(f).head(kept_rows).setZero();
   }
   const int blocks = inverse.numBlocks();
   std::vector<Part> parts = sortedParts(rows, blocks);
-  if (kept_rows > 0 && kFreshColumnsShare * static_cast<int>(fresh_list.size()) <= c) {
+  const bool few =
+      kFreshColumnsPerRow * static_cast<int>(fresh_list.size()) <= c + kFreshColumnsBase;
+  if (kept_rows > 0 && path != DelassusUpdate::kSweep &&
+      (path == DelassusUpdate::kFreshColumns || few)) {
     // Few fresh rows: their columns alone, then mirrored into their rows
     // (a pair of fresh rows from the higher one's column).
     std::vector<int> fresh_parts;
@@ -198,7 +226,7 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
     for (int f : fresh_list) is_fresh[f] = 1;
     for (int f : fresh_list)
       for (int i = 0; i < c; ++i)
-        if (!is_fresh[i] || i < f) (*W)(f, i) = (*W)(i, f);
+        if (!is_fresh[i] || i < f) W(f, i) = W(i, f);
     return;
   }
   std::reverse(parts.begin(), parts.end());  // from the top of the chain down
@@ -231,7 +259,7 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
   // One half of W, in column pa.row (contiguous); W + W^T below. The two
   // parts of one self-contact row meet on its diagonal twice.
   auto add = [&](const Part& pa, const Part& pb, double w) {
-    W->col(pa.row)(pb.row) += pb.row == pa.row && &pa != &pb ? 2.0 * w : w;
+    W.col(pa.row)(pb.row) += pb.row == pa.row && &pa != &pb ? 2.0 * w : w;
   };
   for (int next = 0; next < count;) {
     const int i = parts[next].node;
@@ -306,9 +334,9 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
   for (int f : fresh_list)
     for (int i = 0; i < c; ++i) {
       if (is_fresh[i] && i <= f) continue;
-      const double sum = (*W)(i, f) + (*W)(f, i);
-      (*W)(i, f) = sum;
-      (*W)(f, i) = sum;
+      const double sum = W(i, f) + W(f, i);
+      W(i, f) = sum;
+      W(f, i) = sum;
     }
 }
 

@@ -34,7 +34,7 @@ bool ChainInverse::compute(const ChainMatrix& A, int first) {
   for (int i = n - 2; i >= 0; --i) {
     sub_[i].noalias() = diag_[i + 1] * transfer_[i].transpose();
     diag_[i] = d_inv_[i];
-    diag_[i].noalias() += transfer_[i] * diag_[i + 1] * transfer_[i].transpose();
+    diag_[i].noalias() += transfer_[i] * sub_[i];  // T S_{i+1,i+1} T^T
     diag_[i] = 0.5 * (diag_[i] + diag_[i].transpose()).eval();
   }
   return true;
