@@ -157,11 +157,14 @@ TEST(Stability, GuidewireThroughThreeHairpins) {
   // then held with the J-tip in the last leg. The wire must follow the
   // lumen: along the device, the centreline position of consecutive
   // inserted nodes (1 mm apart) never jumps, as it would if a node passed
-  // through the 6 mm of tissue between two legs. Judged against the SWC
-  // centreline, not the simulated surface.
+  // through the 6 mm of tissue between two legs (judged against the SWC
+  // centreline), and the midpoint of every inserted element lies inside the
+  // lumen (the simulated surface's field at the axis, g > 0): no element
+  // cuts through tissue between its nodes.
   const std::string file = loadSceneFile(resolveScenePath("tortuous")).vessels.centerline_file;
   const Centerline lumen = loadCenterlineFile(file);
   double largest_jump = 0.0, tip_arc = 0.0, lumen_length = 0.0;
+  double lowest_midpoint_field = std::numeric_limits<double>::infinity();
   for (int i = 1; i < lumen.numPoints(); ++i)
     lumen_length += (lumen.position[i] - lumen.position[lumen.parent[i]]).norm();
   Outcome o;
@@ -172,6 +175,9 @@ TEST(Stability, GuidewireThroughThreeHairpins) {
     for (size_t n = held + 2; n < wire.position.size(); ++n) {
       const double arc = arcLengthOfNearest(lumen, wire.position[n]);
       largest_jump = std::max(largest_jump, std::abs(arc - previous));
+      const Vec3 midpoint = 0.5 * (wire.position[n - 1] + wire.position[n]);
+      lowest_midpoint_field =
+          std::min(lowest_midpoint_field, m.surface->evaluate(midpoint, 0.0).value);
       previous = arc;
     }
     tip_arc = previous;
@@ -180,14 +186,18 @@ TEST(Stability, GuidewireThroughThreeHairpins) {
   EXPECT_GT(o.max_active_contacts, 10);
   // Neighbouring nodes are 1 mm apart; on the inner wall of a corner (1 mm
   // from its centre of curvature, the centreline 3 mm) that maps to 3 mm of
-  // centreline. A node through the tissue into the next leg jumps by the
-  // whole hairpin (over 15 mm).
-  EXPECT_LT(largest_jump, 5e-3);
+  // centreline, and more where the convolution surface bulges into the
+  // corner: 5.10 mm once (session 12: step 3,109, node 400, both nodes and
+  // their element's midpoint inside, g = 0.298, 0.070, 0.405). A node
+  // through the tissue into the next leg jumps by the whole hairpin (over
+  // 15 mm).
+  EXPECT_LT(largest_jump, 8e-3);
+  EXPECT_GT(lowest_midpoint_field, 0.0);
   EXPECT_GT(tip_arc, lumen_length - 0.025);  // the J-tip in the last leg
   std::printf(
       "[ metric   ] tortuous: largest jump between neighbouring nodes %.2f mm along the "
-      "%.1f mm centreline; tip at %.1f mm\n",
-      largest_jump * 1e3, lumen_length * 1e3, tip_arc * 1e3);
+      "%.1f mm centreline; tip at %.1f mm; lowest field at an element's midpoint %.3g\n",
+      largest_jump * 1e3, lumen_length * 1e3, tip_arc * 1e3, lowest_midpoint_field);
 }
 
 /// Angle [rad] device d turns between material coordinates s0 and s1 (nodes).
