@@ -11,11 +11,15 @@
 //    many redundant candidates (neighbouring sample points seeing one wall),
 //    of which few carry a force, so growing the set from the most violated
 //    row needs 5-25x fewer pivots on scene LCPs than the paper's start
-//    from every violated row (`start_from_violated`, kept as an option). The active set's Cholesky
-//    factor is updated by one row or column per change (O(c^2)), never refactorised. Rank-deficient
-//    W (redundant contacts) is handled by a stated regularisation: W + eps I, eps = regularization
-//    * max(diag W), which makes it a P-matrix. Never cycles: after 3c pivots it switches from the
-//    most-negative rule to Murty's least-index rule, which terminates for P-matrices.
+//    from every violated row (`start_from_violated`, kept as an option).
+//    The active set's Cholesky factor is updated by one row or column per
+//    change (O(c^2)), never refactorised, and the forward solution
+//    L^-1 b_a with it (O(k)): a pivot's re-solve is one triangular solve.
+//    Rank-deficient W (redundant contacts) is handled by a stated
+//    regularisation: W + eps I, eps = regularization * max(diag W), which
+//    makes it a P-matrix. Never cycles: after 3c pivots it switches from the
+//    most-negative rule to Murty's least-index rule, which terminates for
+//    P-matrices.
 //  - kPgs: projected Gauss-Seidel (the method the paper improves on).
 //  - kLemke: Lemke's complementary pivoting with a covering vector of ones
 //    (exact up to round-off; the final basis is re-solved to polish z).

@@ -12,12 +12,14 @@ namespace evsim {
 namespace {
 
 /// Cholesky factor L (lower) of W_aa + eps I for an ordered active set,
-/// updated by appending or removing one index. All storage is sized once
-/// (c x c), so pivots allocate nothing.
+/// updated by appending or removing one index, and the forward solution
+/// y = L^-1 b_a of a right-hand side b (given at construction) kept with
+/// it: O(k) per change, so each pivot's z_a = L^-T y is one triangular
+/// solve. All storage is sized once (c x c), so pivots allocate nothing.
 class ActiveCholesky {
  public:
-  ActiveCholesky(const MatXView& W, double eps)
-      : W_(W), eps_(eps), L_(W.rows(), W.rows()), row_(W.rows()) {
+  ActiveCholesky(const MatXView& W, const VecX& b, double eps)
+      : W_(W), b_(b), eps_(eps), L_(W.rows(), W.rows()), row_(W.rows()), y_(W.rows()) {
     set_.reserve(W.rows());
   }
 
@@ -38,6 +40,8 @@ class ActiveCholesky {
     const Eigen::LLT<Eigen::Ref<MatX>> llt(block);
     if (llt.info() == Eigen::Success) {
       set_ = init;
+      for (int j = 0; j < k; ++j) y_(j) = b_(init[j]);
+      L_.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(y_.head(k));
       return;
     }
     for (int i : init) add(i);
@@ -53,11 +57,13 @@ class ActiveCholesky {
     if (!(d2 > 0.0)) return false;
     L_.row(k).head(k) = row.transpose();
     L_(k, k) = std::sqrt(d2);
+    y_(k) = (b_(i) - row.dot(y_.head(k))) / L_(k, k);
     set_.push_back(i);
     return true;
   }
 
-  /// Removes the entry at position p; Givens rotations restore L.
+  /// Removes the entry at position p; Givens rotations restore L (and,
+  /// applied to y, keep L y = b_a).
   void removeAt(int p) {
     const int k = size();
     // Rows p + 1 .. k - 1 move up one, column by column (contiguous in the
@@ -77,23 +83,36 @@ class ActiveCholesky {
         L_(rr, c) = cs * x + sn * y;
         L_(rr, c + 1) = -sn * x + cs * y;
       }
+      const double yc = y_(c), yn = y_(c + 1);
+      y_(c) = cs * yc + sn * yn;
+      y_(c + 1) = -sn * yc + cs * yn;
     }
     set_.erase(set_.begin() + p);
   }
 
-  /// Solves (W_aa + eps I) x = b in place (b ordered like set()).
+  /// z_a with (W_aa + eps I) z_a = b_a (ordered like set()).
   template <typename Vector>
-  void solve(Vector&& b) const {
+  void solution(Vector&& za) const {
     const int k = size();
-    L_.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(b);
-    L_.topLeftCorner(k, k).transpose().triangularView<Eigen::Upper>().solveInPlace(b);
+    za = y_.head(k);
+    L_.topLeftCorner(k, k).transpose().triangularView<Eigen::Upper>().solveInPlace(za);
+  }
+
+  /// Solves (W_aa + eps I) x = r in place for another r (ordered like set()).
+  template <typename Vector>
+  void solve(Vector&& r) const {
+    const int k = size();
+    L_.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(r);
+    L_.topLeftCorner(k, k).transpose().triangularView<Eigen::Upper>().solveInPlace(r);
   }
 
  private:
   MatXView W_;
+  const VecX& b_;
   double eps_;
   MatX L_;
   VecX row_;
+  VecX y_;
   std::vector<int> set_;
 };
 
@@ -130,7 +149,8 @@ LcpStatus statusMethod(const MatXView& W, const VecX& q, const LcpOptions& o, Ve
   const int c = static_cast<int>(q.size());
   const double eps = o.regularization * std::max(W.diagonal().maxCoeff(), 0.0);
   const int limit = o.max_iterations > 0 ? o.max_iterations : 20 * c + 100;
-  ActiveCholesky chol(W, eps);
+  const VecX minus_q = -q;
+  ActiveCholesky chol(W, minus_q, eps);
   std::vector<char> active(c, 0);
   // Start from the empty set, or (the paper's start) from every contact
   // violated by the free motion, most violated first.
@@ -156,8 +176,7 @@ LcpStatus statusMethod(const MatXView& W, const VecX& q, const LcpOptions& o, Ve
     st->switched_rule |= murty;
     const int k = chol.size();
     auto za = za_store.head(k);
-    for (int j = 0; j < k; ++j) za(j) = -q(chol.set()[j]);
-    chol.solve(za);
+    chol.solution(za);
     // I) Deactivation: the most negative force (or the lowest index, Murty).
     int drop = -1;
     for (int j = 0; j < k; ++j)
