@@ -46,10 +46,12 @@ struct Part {
   Vec6 lo, hi;  // coefficients on the two nodes
 };
 
-/// The rows' parts sorted by node; a part whose first node is held keeps
-/// its second (as `lo` on free node 0), a part with both held is dropped.
+/// The rows' parts sorted by node, in row order within a node (a counting
+/// sort: O(parts + blocks)); a part whose first node is held keeps its
+/// second (as `lo` on free node 0), a part with both held is dropped.
 std::vector<Part> sortedParts(const std::vector<ContactRow>& rows, int blocks) {
-  std::vector<Part> parts;
+  std::vector<Part> unsorted;
+  std::vector<int> start(blocks + 1, 0);  // parts before each node
   for (size_t r = 0; r < rows.size(); ++r)
     for (int k = 0; k < rows[r].parts; ++k) {
       const int node = rows[r].offset[k] / 6;
@@ -58,10 +60,12 @@ std::vector<Part> sortedParts(const std::vector<ContactRow>& rows, int blocks) {
       Part p{static_cast<int>(r), node, h.head<6>().transpose(), h.tail<6>().transpose()};
       if (node == -1) p = {p.row, 0, p.hi, Vec6::Zero()};
       if (p.node + 1 >= blocks) p.hi.setZero();
-      parts.push_back(p);
+      unsorted.push_back(p);
+      ++start[p.node + 1];
     }
-  std::stable_sort(parts.begin(), parts.end(),
-                   [](const Part& a, const Part& b) { return a.node < b.node; });
+  for (int i = 0; i < blocks; ++i) start[i + 1] += start[i];
+  std::vector<Part> parts(unsorted.size());
+  for (const Part& p : unsorted) parts[start[p.node]++] = p;
   return parts;
 }
 
