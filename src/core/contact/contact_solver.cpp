@@ -195,23 +195,28 @@ bool sameRow(const ContactRow& a, const ContactRow& b) {
   return true;
 }
 
+/// What a device's workspace band (ws.inverse) holds: nothing valid, the
+/// band of A^-1, of (A + C)^-1.
+enum class Band { kNone, kOfA, kOfCurved };
+
 /// C (contact/wall_curvature.h) of the wall contacts with a force, per
 /// device; A + C into the workspace's `curved_system`. (*curved)[d] says
 /// whether device d has such a term (else A alone). A + C is factorised
 /// where W will need it: for a device with at least kChainDelassusMinRows
-/// contacts, its band (ws.inverse, whose block LDL^T also serves the
-/// solves; (*band_of_curved)[d] = 1, or -1 when that failed and the band
-/// no longer holds anything), else CHOLMOD's `curved` factor.
+/// contacts, as its band (ws.inverse, whose block LDL^T also serves the
+/// solves), else by CHOLMOD (`curved`). (*band)[d] is updated; a band of
+/// A + C left from before becomes kNone.
 void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& contacts,
                          const std::vector<DeviceState>& x, std::vector<ChainMatrix>* C,
-                         std::vector<char>* curved, std::vector<char>* band_of_curved) {
+                         std::vector<char>* curved, std::vector<Band>* band) {
   const auto& devices = *pb.devices;
   auto& ws = *pb.workspaces;
   const auto& samples = *pb.samples;
   const size_t nd = devices.size();
   C->assign(nd, ChainMatrix());
   curved->assign(nd, 0);
-  band_of_curved->assign(nd, 0);
+  for (Band& b : *band)
+    if (b == Band::kOfCurved) b = Band::kNone;
   std::vector<int> rows(nd, 0);  // contacts with a part on each device (its rows of H)
   for (const Contact& ct : contacts) {
     ++rows[ct.device];
@@ -256,11 +261,12 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
     }
     // (C is positive semi-definite, so this should not fail; if it does, A.)
     if (rows[d] >= kChainDelassusMinRows) {
-      if (w.inverse.compute(Ac, w.first_free_node)) {
-        (*curved)[d] = (*band_of_curved)[d] = 1;
+      const bool ok = w.inverse.compute(Ac, w.first_free_node);
+      (*band)[d] = ok ? Band::kOfCurved : Band::kNone;
+      if (ok) {
+        (*curved)[d] = 1;
         continue;
       }
-      (*band_of_curved)[d] = -1;
     }
     w.pattern.gather(Ac, &w.curved_values);
     (*curved)[d] = w.curved.factorize(w.curved_values) ? 1 : 0;
@@ -270,10 +276,9 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
 /// The QP step's free motion about the iterate dq for the devices with a
 /// curvature term: (*dq_step)[d] = (A + C)^-1 (A dq_free + C dq_k), and
 /// their factor that of A + C. Others keep A and dq_free. The solve uses
-/// the band's block LDL^T where it holds A + C (band_of_curved[d]), else
-/// CHOLMOD's factor.
+/// the band's block LDL^T where it holds A + C, else CHOLMOD's factor.
 void curvedFreeMotion(const ContactProblem& pb, const std::vector<ChainMatrix>& C,
-                      const std::vector<char>& curved, const std::vector<char>& band_of_curved,
+                      const std::vector<char>& curved, const std::vector<Band>& band,
                       const std::vector<VecX>& dq, std::vector<VecX>* dq_step,
                       std::vector<SparseCholesky*>* factor) {
   auto& ws = *pb.workspaces;
@@ -285,7 +290,7 @@ void curvedFreeMotion(const ContactProblem& pb, const std::vector<ChainMatrix>& 
     free.head(held).setZero();
     iterate.head(held).setZero();
     VecX rhs = (w.system.multiply(free) + C[d].multiply(iterate)).tail(n);
-    if (band_of_curved[d])
+    if (band[d] == Band::kOfCurved)
       w.inverse.solveInPlace(&rhs);
     else
       w.curved.solveInPlace(&rhs);
@@ -439,10 +444,8 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   std::vector<std::array<Vec3, 2>> tangents;  // per contact with friction: t1, t2
   std::vector<DeviceState> x = xf;
   std::vector<char> updated(contacts->size(), 0);  // plane already updated in this step
-  // What ws[d].inverse holds: nothing valid, the band of A^-1, of (A + C)^-1.
-  enum class Band { kNone, kOfA, kOfCurved };
-  std::vector<Band> band(nd, Band::kNone);
-  std::vector<ChainMatrix> curvature;  // C per device, kept once no longer updated
+  std::vector<Band> band(nd, Band::kNone);         // what ws[d].inverse holds
+  std::vector<ChainMatrix> curvature;              // C per device, kept once no longer updated
   // Per device the rows and W of the last loop that used the band (reused
   // while the band stays).
   std::vector<std::vector<ContactRow>> last_rows(nd);
@@ -464,19 +467,16 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       // later loops keep it (and the band of (A + C)^-1): at the answer
       // dq = dq_k, so C shapes the path, not the step's solution.
       if (loop <= o.curvature_loops) {
-        std::vector<char> band_computed;
-        factorWallCurvature(pb, *contacts, x, &curvature, &curved, &band_computed);
+        const std::vector<Band> before = band;
+        factorWallCurvature(pb, *contacts, x, &curvature, &curved, &band);
         for (size_t d = 0; d < nd; ++d) {
-          if (band[d] == Band::kOfCurved || band_computed[d] != 0) {
-            band[d] = band_computed[d] == 1 ? Band::kOfCurved : Band::kNone;
+          if (band[d] != before[d] || band[d] == Band::kOfCurved) {
             last_rows[d].clear();  // W of another matrix: nothing to reuse
             last_W[d].size = 0;
           }
         }
       }
-      std::vector<char> band_of_curved(nd);
-      for (size_t d = 0; d < nd; ++d) band_of_curved[d] = band[d] == Band::kOfCurved;
-      curvedFreeMotion(pb, curvature, curved, band_of_curved, dq, &dq_step, &factor);
+      curvedFreeMotion(pb, curvature, curved, band, dq, &dq_step, &factor);
     }
     st->curvature_ms += msSince(t0);
 
