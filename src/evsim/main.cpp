@@ -8,8 +8,11 @@
 //   evsim mesh SCENE --out FILE [--spacing M] [--device-radius M]
 //                                          vessel surface as PLY or STL
 //   evsim bench SCENE [--steps N] [--warmup N] [--elements E] [--effects A,B]
+//                     [--min-rows R]
 //                                          step-time statistics (median, p99, Hz);
-//                                          --effects replaces the scene's effects
+//                                          --effects replaces the scene's effects;
+//                                          --min-rows adds the same over the steps
+//                                          whose LCP has at least R rows
 //   evsim bench accuracy SCENE|beam|root [--duration S] [--csv FILE]
 //                                          accuracy knobs against their cost
 //   evsim list                             shipped scenes
@@ -43,6 +46,7 @@ int usage(const char* why = nullptr) {
                "                                         SCENE: a path or a shipped scene name\n"
                "  evsim mesh SCENE --out FILE.ply|.stl [--spacing M] [--device-radius M]\n"
                "  evsim bench SCENE [--steps N] [--warmup N] [--elements E] [--effects A,B]\n"
+               "                    [--min-rows R]\n"
                "  evsim bench accuracy SCENE|beam|root [--duration S] [--csv FILE]\n"
                "  evsim list                             the shipped scenes\n";
   return 2;
@@ -117,11 +121,53 @@ int runCommand(int argc, char** argv) {
   return save() ? 0 : 1;
 }
 
+/// One measured step of `evsim bench`.
+struct BenchStep {
+  double ms;        // wall time of the step [ms]
+  int rows;         // rows of its last LCP (detected contacts)
+  int forces;       // contacts with a positive force
+  int loops;        // activation loops
+  bool subdivided;  // the step was halved at least once
+};
+
+/// Median (element n/2 of the sorted values) and the p-th quantile.
+template <typename T>
+T quantile(std::vector<T> values, double p) {
+  std::sort(values.begin(), values.end());
+  return values[std::min(values.size() - 1, static_cast<size_t>(p * values.size()))];
+}
+
+/// Prints step time, rows, forces, subdivisions and loops of `steps` (non-empty).
+void printBenchSummary(const std::vector<BenchStep>& steps) {
+  std::vector<double> ms;
+  std::vector<int> rows, forces;
+  int subdivided = 0, max_loops = 0;
+  double mean = 0.0;
+  for (const BenchStep& b : steps) {
+    ms.push_back(b.ms);
+    rows.push_back(b.rows);
+    forces.push_back(b.forces);
+    subdivided += b.subdivided;
+    max_loops = std::max(max_loops, b.loops);
+    mean += b.ms / steps.size();
+  }
+  const double median = quantile(ms, 0.5);
+  std::printf(
+      "step [ms]: median %.3f  mean %.3f  p90 %.3f  p99 %.3f  max %.3f  -> %.0f Hz at the median\n",
+      median, mean, quantile(ms, 0.9), quantile(ms, 0.99), quantile(ms, 1.0), 1e3 / median);
+  std::printf(
+      "active contacts: median %d  max %d;  LCP rows: median %d  max %d;  steps subdivided %d;  "
+      "most activation loops %d\n",
+      quantile(forces, 0.5), quantile(forces, 1.0), quantile(rows, 0.5), quantile(rows, 1.0),
+      subdivided, max_loops);
+}
+
 int benchCommand(int argc, char** argv) {
   if (argc < 1) return usage("bench needs a SCENE");
   if (!std::strcmp(argv[0], "accuracy")) return accuracyCommand(argc - 1, argv + 1);
   long steps = 3000, warmup = 0;
   int elements = 0;
+  long min_rows = 0;    // --min-rows R: also the steps whose LCP has >= R rows (0: not asked)
   std::string effects;  // --effects a,b,c replaces the scene's list ("" = none)
   bool have_effects = false;
   for (int i = 1; i < argc; ++i) {
@@ -132,6 +178,8 @@ int benchCommand(int argc, char** argv) {
       warmup = std::strtol(argv[++i], &end, 10);
     } else if (!std::strcmp(argv[i], "--elements") && i + 1 < argc) {
       elements = static_cast<int>(std::strtol(argv[++i], &end, 10));
+    } else if (!std::strcmp(argv[i], "--min-rows") && i + 1 < argc) {
+      min_rows = std::strtol(argv[++i], &end, 10);
     } else if (!std::strcmp(argv[i], "--effects") && i + 1 < argc) {
       effects = argv[++i];
       have_effects = true;
@@ -139,7 +187,7 @@ int benchCommand(int argc, char** argv) {
     } else {
       return usage((std::string("unknown argument ") + argv[i]).c_str());
     }
-    if (*end != '\0' || steps < 1 || warmup < 0 || elements < 0)
+    if (*end != '\0' || steps < 1 || warmup < 0 || elements < 0 || min_rows < 0)
       return usage("bench options need whole numbers (steps >= 1)");
   }
   SceneSpec spec = loadSceneFile(resolveScenePath(argv[0]));
@@ -155,39 +203,31 @@ int benchCommand(int argc, char** argv) {
       std::cerr << "evsim: warm-up step failed: " << data.last_error << "\n";
       return 1;
     }
-  std::vector<double> ms;
-  std::vector<int> contacts;
-  int subdivided = 0, max_loops = 0;
+  std::vector<BenchStep> record;
+  record.reserve(steps);
   for (long k = 0; k < steps; ++k) {
     if (step(model, &data) != StepStatus::kOk) {
       std::cerr << "evsim: step failed: " << data.last_error << "\n";
       return 1;
     }
-    ms.push_back(data.stats.wall_ms);
-    contacts.push_back(data.stats.active_contacts);
-    subdivided += data.stats.subdivisions > 0;
-    max_loops = std::max(max_loops, data.stats.activation_loops);
+    const StepStats& s = data.stats;
+    record.push_back(
+        {s.wall_ms, s.contacts, s.active_contacts, s.activation_loops, s.subdivisions > 0});
   }
-  std::vector<double> sorted = ms;
-  std::sort(sorted.begin(), sorted.end());
-  auto pct = [&](double p) {
-    return sorted[std::min(sorted.size() - 1, static_cast<size_t>(p * sorted.size()))];
-  };
-  double mean = 0.0;
-  for (double v : ms) mean += v / ms.size();
   int nodes = 0;
   for (const auto& d : model.devices) nodes += d.num_nodes - 1;
-  std::sort(contacts.begin(), contacts.end());
   std::string effect_list;
   for (const auto& e : spec.effects) effect_list += (effect_list.empty() ? "" : ",") + e;
   std::printf("scene %s: %zu device(s), %d elements, effects [%s], %ld steps after %ld warm-up\n",
               model.name.c_str(), model.devices.size(), nodes, effect_list.c_str(), steps, warmup);
-  std::printf(
-      "step [ms]: median %.3f  mean %.3f  p90 %.3f  p99 %.3f  max %.3f  -> %.0f Hz at the median\n",
-      pct(0.5), mean, pct(0.9), pct(0.99), sorted.back(), 1e3 / pct(0.5));
-  std::printf(
-      "active contacts: median %d  max %d;  steps subdivided %d;  most activation loops %d\n",
-      contacts[contacts.size() / 2], contacts.back(), subdivided, max_loops);
+  printBenchSummary(record);
+  if (min_rows > 0) {
+    std::vector<BenchStep> large;
+    for (const BenchStep& b : record)
+      if (b.rows >= min_rows) large.push_back(b);
+    std::printf("steps with >= %ld LCP rows: %zu of %ld\n", min_rows, large.size(), steps);
+    if (!large.empty()) printBenchSummary(large);
+  }
   return 0;
 }
 

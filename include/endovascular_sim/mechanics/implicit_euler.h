@@ -34,7 +34,9 @@ struct DeviceWorkspace {
   SparseCholesky curved;              // its factor
   int curved_size{-1};                // dimension its symbolic analysis was done for
   ChainInverse inverse;               // band of A^-1 or (A + C)^-1 (the Delassus operator)
-  double elastic_energy{0.0};         // [J] at the start of the step
+  MatX delassus_storage;  // the contact solver's W between steps (its DelassusBuffer's storage,
+                          // kept so that no step allocates and faults it in again)
+  double elastic_energy{0.0};  // [J] at the start of the step
 };
 
 /// Wall time of each stage [ms].

@@ -195,6 +195,28 @@ bool sameRow(const ContactRow& a, const ContactRow& b) {
   return true;
 }
 
+/// Lends each device workspace's W storage to the step's DelassusBuffer
+/// and takes it back on every way out: W keeps its capacity from step to
+/// step (allocated afresh, the megabytes of a packed coil's W were page
+/// faults again each step).
+class WorkspaceStorageLease {
+ public:
+  WorkspaceStorageLease(std::vector<DeviceWorkspace>* ws, std::vector<DelassusBuffer>* W)
+      : ws_(ws), W_(W) {
+    swapAll();
+  }
+  ~WorkspaceStorageLease() { swapAll(); }
+  WorkspaceStorageLease(const WorkspaceStorageLease&) = delete;
+  WorkspaceStorageLease& operator=(const WorkspaceStorageLease&) = delete;
+
+ private:
+  void swapAll() {
+    for (size_t d = 0; d < W_->size(); ++d) (*W_)[d].storage.swap((*ws_)[d].delassus_storage);
+  }
+  std::vector<DeviceWorkspace>* ws_;
+  std::vector<DelassusBuffer>* W_;
+};
+
 /// What a device's workspace band (ws.inverse) holds: nothing valid, the
 /// band of A^-1, of (A + C)^-1.
 enum class Band { kNone, kOfA, kOfCurved };
@@ -450,6 +472,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   // while the band stays).
   std::vector<std::vector<ContactRow>> last_rows(nd);
   std::vector<DelassusBuffer> last_W(nd);
+  const WorkspaceStorageLease lease(&ws, &last_W);
   std::vector<char> curved(nd, 0);  // device d steps with A + C
   for (int loop = 1; loop <= o.max_activation_loops && !solved; ++loop) {
     st->activation_loops = loop;

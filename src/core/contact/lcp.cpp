@@ -15,11 +15,14 @@ namespace {
 /// updated by appending or removing one index, and the forward solution
 /// y = L^-1 b_a of a right-hand side b (given at construction) kept with
 /// it: O(k) per change, so each pivot's z_a = L^-T y is one triangular
-/// solve. All storage is sized once (c x c), so pivots allocate nothing.
+/// solve. All storage is sized once (c x c), so pivots allocate nothing;
+/// L lives in a per-thread buffer that only grows, so that the solves of
+/// an activation loop (megabytes at c = 400) do not each allocate and
+/// fault in their own.
 class ActiveCholesky {
  public:
   ActiveCholesky(const MatXView& W, const VecX& b, double eps)
-      : W_(W), b_(b), eps_(eps), L_(W.rows(), W.rows()), row_(W.rows()), y_(W.rows()) {
+      : W_(W), b_(b), eps_(eps), L_(factorStorage(W.rows())), row_(W.rows()), y_(W.rows()) {
     set_.reserve(W.rows());
   }
 
@@ -107,10 +110,18 @@ class ActiveCholesky {
   }
 
  private:
+  /// The top-left c x c block of this thread's factor buffer (grown when
+  /// smaller; entries are written before they are read).
+  static Eigen::Block<MatX> factorStorage(Eigen::Index c) {
+    thread_local MatX buffer;
+    if (buffer.rows() < c) buffer.resize(c, c);
+    return buffer.topLeftCorner(c, c);
+  }
+
   MatXView W_;
   const VecX& b_;
   double eps_;
-  MatX L_;
+  Eigen::Block<MatX> L_;
   VecX row_;
   VecX y_;
   std::vector<int> set_;
