@@ -558,23 +558,24 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     std::vector<std::vector<int>> of_device(nd);  // rows with a part on each device
     std::vector<std::vector<ContactRow>> rows_of(nd);
     std::vector<MatX> Y(nd);  // A^-1 H^T where W came from the block solve
+    std::vector<int> column_of_row;
     for (size_t d = 0; d < nd; ++d) {
       if (parts[d].empty()) continue;
       std::vector<ContactRow>& device_rows = rows_of[d];
-      std::map<int, int> column;  // row -> column
+      column_of_row.assign(m, -1);  // row -> its column in this device's operator
       for (const Part& pt : parts[d]) {
         const Row12& h = pt.h;
         const int offset = 6 * (pt.element - ws[d].first_free_node);
-        const auto it = column.find(pt.row);
-        if (it == column.end()) {
-          column[pt.row] = static_cast<int>(device_rows.size());
+        int& column = column_of_row[pt.row];
+        if (column < 0) {
+          column = static_cast<int>(device_rows.size());
           of_device[d].push_back(pt.row);
           ContactRow row;
           row.offset[0] = offset;
           row.h[0] = h;
           device_rows.push_back(row);
         } else {  // a self contact: its second part on the same device
-          ContactRow& row = device_rows[it->second];
+          ContactRow& row = device_rows[column];
           row.offset[1] = offset;
           row.h[1] = h;
           row.parts = 2;
