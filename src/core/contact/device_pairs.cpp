@@ -55,11 +55,13 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
     while (rows[h].key != -1 && rows[h].key != row_key) h = (h + 1) & mask;
     return h;
   };
+  std::vector<Row> row_list;  // the rows in sorted order
   for (int k = 0; k < n;) {
     const int64_t row_key = sorted[k].first >> 21;
     int e = k;
     while (e < n && (sorted[e].first >> 21) == row_key) ++e;
     rows[slot(row_key)] = {row_key, k, e};
+    row_list.push_back({row_key, k, e});
     k = e;
   }
   struct Candidate {
@@ -68,53 +70,50 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
     int a, b;
   };
   std::vector<Candidate> found;
-  // Each pair of cells is visited once: from a point, its own cell (points
-  // after it in the sorted order) and x + 1 in its row, and the rows
-  // (z, y + 1) and (z + 1, y - 1 ... y + 1) at x - 1 ... x + 1.
-  constexpr int kRows = 5;
-  constexpr int64_t kRowStep[kRows][2] = {{0, 0}, {0, 1}, {1, -1}, {1, 0}, {1, 1}};
-  for (int at = 0; at < n; ++at) {
-    const int i = sorted[at].second;
-    const int64_t key = sorted[at].first;
-    const int64_t x = key & ((int64_t{1} << 21) - 1), yz = key >> 21;
-    const int64_t y = yz & ((int64_t{1} << 21) - 1), z = yz >> 21;
-    for (int r = 0; r < kRows; ++r) {
-      int begin, end;
-      if (r == 0) {  // own row: from the next point on, up to x + 1
-        begin = at + 1;
-        end = n;
-      } else {
-        const Row& row = rows[slot((z + kRowStep[r][0]) << 21 | (y + kRowStep[r][1]))];
-        if (row.key == -1) continue;
-        begin = row.begin;
-        end = row.end;
-      }
-      for (int k = begin; k < end; ++k) {
-        if (r == 0 && (sorted[k].first >> 21) != yz) break;
-        const int64_t xb = sorted[k].first & ((int64_t{1} << 21) - 1);
-        if (xb < x - 1) continue;
-        if (xb > x + 1) break;
-        const int j = sorted[k].second;
-        // a: the lower index (the contact's first point), as a scan in index
-        // order would make it.
-        const int ia = std::min(i, j), ib = std::max(i, j);
-        const PointRef& a = pts[ia];
-        const PointRef& b = pts[ib];
-        if (!a.free && !b.free) continue;
-        if (a.in_lumen_of == b.device || b.in_lumen_of == a.device) continue;
-        const double reach = a.r + b.r + margin;
-        const double dist2 = (a.p - b.p).squaredNorm();
-        if (dist2 >= reach * reach || dist2 == 0.0) continue;
-        if (a.device == b.device) {
-          const double along = std::abs(a.s - b.s);
-          const double le = std::max(devices[a.device].elements[a.element].length,
-                                     devices[b.device].elements[b.element].length);
-          if (along <= 2.0 * (a.r + b.r) + 2.0 * le) continue;
-        }
-        const int64_t elements = static_cast<int64_t>(a.device) << 52 |
-                                 static_cast<int64_t>(a.element) << 32 |
-                                 static_cast<int64_t>(b.device) << 20 | b.element;
-        found.push_back({elements, std::sqrt(dist2), ia, ib});
+  constexpr int64_t kLow21 = (int64_t{1} << 21) - 1;
+  auto xOf = [&](int k) { return sorted[k].first & kLow21; };
+  auto check = [&](int at, int k) {
+    const int i = sorted[at].second, j = sorted[k].second;
+    // a: the lower index (the contact's first point), as a scan in index
+    // order would make it.
+    const int ia = std::min(i, j), ib = std::max(i, j);
+    const PointRef& a = pts[ia];
+    const PointRef& b = pts[ib];
+    if (!a.free && !b.free) return;
+    if (a.in_lumen_of == b.device || b.in_lumen_of == a.device) return;
+    const double reach = a.r + b.r + margin;
+    const double dist2 = (a.p - b.p).squaredNorm();
+    if (dist2 >= reach * reach || dist2 == 0.0) return;
+    if (a.device == b.device) {
+      const double along = std::abs(a.s - b.s);
+      const double le = std::max(devices[a.device].elements[a.element].length,
+                                 devices[b.device].elements[b.element].length);
+      if (along <= 2.0 * (a.r + b.r) + 2.0 * le) return;
+    }
+    const int64_t elements = static_cast<int64_t>(a.device) << 52 |
+                             static_cast<int64_t>(a.element) << 32 |
+                             static_cast<int64_t>(b.device) << 20 | b.element;
+    found.push_back({elements, std::sqrt(dist2), ia, ib});
+  };
+  // Each pair of cells is visited once, row against row (both in x order,
+  // so a window x - 1 ... x + 1 slides along the other row): a row with
+  // itself (a point against the later points of its cell and of x + 1),
+  // and with the rows (z, y + 1) and (z + 1, y - 1 ... y + 1), looked up
+  // once a row, not once a point.
+  constexpr int kNeighbourRows = 4;
+  constexpr int64_t kRowStep[kNeighbourRows][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
+  for (const Row& row : row_list) {
+    for (int at = row.begin; at < row.end; ++at)
+      for (int k = at + 1; k < row.end && xOf(k) <= xOf(at) + 1; ++k) check(at, k);
+    const int64_t y = row.key & kLow21, z = row.key >> 21;
+    for (const auto& step : kRowStep) {
+      const Row& other = rows[slot((z + step[0]) << 21 | (y + step[1]))];
+      if (other.key == -1) continue;
+      int first = other.begin;  // the first point of the other row at x - 1 or beyond
+      for (int at = row.begin; at < row.end; ++at) {
+        const int64_t x = xOf(at);
+        while (first < other.end && xOf(first) < x - 1) ++first;
+        for (int k = first; k < other.end && xOf(k) <= x + 1; ++k) check(at, k);
       }
     }
   }
