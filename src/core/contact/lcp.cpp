@@ -18,7 +18,8 @@ namespace {
 /// solve. All storage is sized once (c x c), so pivots allocate nothing;
 /// L lives in a per-thread buffer that only grows, so that the solves of
 /// an activation loop (megabytes at c = 400) do not each allocate and
-/// fault in their own.
+/// fault in their own. One factor at a time per thread: the status method
+/// never runs inside another.
 class ActiveCholesky {
  public:
   ActiveCholesky(const MatXView& W, const VecX& b, double eps)
