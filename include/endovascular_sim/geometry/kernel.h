@@ -25,6 +25,12 @@ double isoValueForAlpha(double alpha);
 /// Adds the segment primitive's value and gradient at p. R [m].
 void addSegmentField(const Vec3& a, const Vec3& b, double R, const Vec3& p, FieldSample* out);
 
+/// The same for the segment from a along the unit axis u over a length L > 0
+/// [m] (u = (b - a) / L, L = |b - a|): a vessel that does not move keeps
+/// them instead of deriving them at every evaluation.
+void addSegmentFieldAlong(const Vec3& a, const Vec3& u, double L, double R, const Vec3& p,
+                          FieldSample* out);
+
 /// Adds the sphere primitive's value and gradient at p.
 void addSphereField(const Vec3& c, double R, double weight, const Vec3& p, FieldSample* out);
 

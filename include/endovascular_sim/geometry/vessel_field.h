@@ -75,8 +75,10 @@ class VesselField : public ImplicitSurface {
  private:
   struct Segment {
     Vec3 a, b;
-    double rho;   // vessel radius [m]
-    int weights;  // offset of the endpoints' motion weights (2 * regions)
+    double rho;     // vessel radius [m]
+    int weights;    // offset of the endpoints' motion weights (2 * regions)
+    Vec3 axis;      // (b - a) / length, at rest
+    double length;  // |b - a| at rest [m]
   };
   struct Sphere {
     Vec3 c;

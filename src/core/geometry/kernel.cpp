@@ -11,7 +11,11 @@ void addSegmentField(const Vec3& a, const Vec3& b, double R, const Vec3& p, Fiel
   const Vec3 ab = b - a;
   const double L = ab.norm();
   if (L <= 0.0) return;
-  const Vec3 u = ab / L;
+  addSegmentFieldAlong(a, ab / L, L, R, p, out);
+}
+
+void addSegmentFieldAlong(const Vec3& a, const Vec3& u, double L, double R, const Vec3& p,
+                          FieldSample* out) {
   const Vec3 w = p - a;
   const double t0 = w.dot(u);
   const Vec3 perp = w - t0 * u;  // from the line to p

@@ -25,9 +25,15 @@ VesselField::VesselField(const Centerline& centerline, const std::vector<Aneurys
   for (int i = 0; i < centerline.numPoints(); ++i) {
     const int p = centerline.parent[i];
     if (p < 0) continue;
-    Segment s{centerline.position[p], centerline.position[i],
+    Segment s{centerline.position[p],
+              centerline.position[i],
               0.5 * (centerline.radius[p] + centerline.radius[i]),
-              static_cast<int>(motion_weights_.size())};
+              static_cast<int>(motion_weights_.size()),
+              Vec3::Zero(),
+              0.0};
+    const Vec3 ab = s.b - s.a;
+    s.length = ab.norm();
+    if (s.length > 0.0) s.axis = ab / s.length;
     if (nr) {
       addWeights(s.a);
       addWeights(s.b);
@@ -178,8 +184,12 @@ FieldSample VesselField::evaluate(const Vec3& p, double device_radius,
         const Segment& s = segments_[id];
         const double R = (s.rho - device_radius) / alpha_;
         if (R <= 0.0) continue;
-        addSegmentField(displaced(s.a, s.weights, 0, motion), displaced(s.b, s.weights, 1, motion),
-                        R, p, &out);
+        if (motion.empty()) {  // at rest: the axis and length kept
+          if (s.length > 0.0) addSegmentFieldAlong(s.a, s.axis, s.length, R, p, &out);
+        } else {
+          addSegmentField(displaced(s.a, s.weights, 0, motion),
+                          displaced(s.b, s.weights, 1, motion), R, p, &out);
+        }
       } else {
         const Sphere& s = spheres_[id - ns];
         const double R = (s.rho - device_radius) / alpha_;
