@@ -8,7 +8,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libsuitesparse-dev libyaml-cpp-dev
   liburdfdom-dev liburdfdom-headers-dev libtinyxml-dev
-  libgtest-dev googletest libgmock-dev libbenchmark-dev
+  libgtest-dev googletest libgmock-dev libbenchmark-dev libcli11-dev
   # ROS 1 from Debian: catkin, roscpp, message generation and definitions
   catkin python3-catkin-pkg python3-empy
   ros-message-generation ros-message-runtime python3-genmsg python3-gencpp

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -13,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "commands.h"
 #include "endovascular_sim/geometry/root_finding.h"
 #include "endovascular_sim/mechanics/static_equilibrium.h"
 #include "endovascular_sim/scene/device_file.h"
@@ -307,29 +307,7 @@ std::vector<Row> sweepRoot() {
 
 }  // namespace
 
-int accuracyCommand(int argc, char** argv) {
-  if (argc < 1) {
-    std::cerr << "evsim: bench accuracy needs SCENE, beam or root\n";
-    return 2;
-  }
-  const std::string what = argv[0];
-  double duration = 2.0;
-  std::string csv;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--duration") && i + 1 < argc) {
-      char* end = nullptr;
-      duration = std::strtod(argv[++i], &end);
-      if (*end != '\0' || !(duration > 0.0 && duration <= 60.0)) {
-        std::cerr << "evsim: --duration needs seconds in (0, 60]\n";
-        return 2;
-      }
-    } else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) {
-      csv = argv[++i];
-    } else {
-      std::cerr << "evsim: unknown argument " << argv[i] << "\n";
-      return 2;
-    }
-  }
+int accuracyCommand(const std::string& what, double duration, const std::string& csv) {
   const std::vector<Row> rows = what == "beam"   ? sweepBeam()
                                 : what == "root" ? sweepRoot()
                                                  : sweepScene(what, duration);
@@ -341,7 +319,7 @@ int accuracyCommand(int argc, char** argv) {
   writeRows(rows, out);
   if (!out) {
     std::cerr << "evsim: cannot write " << csv << "\n";
-    return 1;
+    return kExitFailure;
   }
   std::cerr << "wrote " << csv << "\n";
   return 0;

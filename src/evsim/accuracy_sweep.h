@@ -17,8 +17,12 @@
 // scripts/plot_accuracy.py draws error against cost with the Pareto front.
 #pragma once
 
+#include <string>
+
 namespace evsim {
 
-int accuracyCommand(int argc, char** argv);
+/// The sweep of `what` (SCENE, beam or root) over `duration` simulated
+/// seconds; rows to `csv` ("" stdout).
+int accuracyCommand(const std::string& what, double duration, const std::string& csv);
 
 }  // namespace evsim

@@ -50,7 +50,7 @@ ContactSpace& space(int c, int elements = 200) {
   computeFreeMotion(s.model, intro, Vec3::Zero(), 1e-3, s.state, &s.ws);
   std::mt19937 rng(c);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  const int first = s.ws.first_free_node, n = s.ws.cholesky.size();
+  const int first = s.ws.first_free_node, n = s.ws.factor.size();
   s.Ht = MatX::Zero(n, c);
   s.q.resize(c);
   for (int j = 0; j < c; ++j) {
@@ -70,7 +70,7 @@ ContactSpace& space(int c, int elements = 200) {
     s.q(j) = u(rng) < 0.33 ? 1e-5 * u(rng) : -5e-5 * u(rng);
   }
   MatX Y;
-  delassusOperator(s.ws.cholesky, s.rows, &Y, &s.W);
+  delassusOperator(s.ws.factor, s.rows, &Y, &s.W);
   return s;
 }
 
@@ -78,7 +78,7 @@ void BM_DelassusBlockSolve(benchmark::State& st) {
   ContactSpace& s = space(static_cast<int>(st.range(0)));
   MatX Y, W;
   for (auto _ : st) {
-    delassusOperator(s.ws.cholesky, s.rows, &Y, &W);
+    delassusOperator(s.ws.factor, s.rows, &Y, &W);
     benchmark::DoNotOptimize(W.data());
   }
   st.counters["c"] = static_cast<double>(st.range(0));
@@ -131,7 +131,7 @@ void BM_DelassusSeparateSolves(benchmark::State& st) {
   for (auto _ : st) {
     for (int j = 0; j < c; ++j) {
       VecX col = s.Ht.col(j);
-      s.ws.cholesky.solveInPlace(&col);
+      s.ws.factor.solveInPlace(&col);
       Y.col(j) = col;
     }
     W.noalias() = s.Ht.transpose() * Y;

@@ -225,7 +225,7 @@ bool bothOperators(CoilSystem* c, MatX* W_chain, MatX* W_block) {
   if (!inverse.compute(ws.system, ws.first_free_node)) return false;
   chainDelassusOperator(inverse, c->rows, W_chain);
   MatX Y;
-  delassusOperator(ws.cholesky, c->rows, &Y, W_block);
+  delassusOperator(ws.factor, c->rows, &Y, W_block);
   return true;
 }
 
@@ -270,7 +270,7 @@ TEST(ChainDelassus, MatchesALongDoubleSolveOnAStiffNitinolWire) {
   computeFreeMotion(model, intro, Vec3::Zero(), 1e-3, state, &ws);
   std::mt19937 rng(100);  // 100 rows at random points, normals across the wire
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  const int first = ws.first_free_node, n = ws.cholesky.size();
+  const int first = ws.first_free_node, n = ws.factor.size();
   std::vector<ContactRow> rows;
   for (int j = 0; j < 100; ++j) {
     const SamplePoint p{first + static_cast<int>(u(rng) * (model.num_nodes - 2 - first)), u(rng),
@@ -286,7 +286,7 @@ TEST(ChainDelassus, MatchesALongDoubleSolveOnAStiffNitinolWire) {
   ASSERT_TRUE(inverse.compute(ws.system, first));
   MatX W, Y, W_block;
   chainDelassusOperator(inverse, rows, &W);
-  delassusOperator(ws.cholesky, rows, &Y, &W_block);
+  delassusOperator(ws.factor, rows, &Y, &W_block);
   using MatL = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
   const MatL A = ws.system.toDense().bottomRightCorner(n, n).cast<long double>();
   const MatL H = denseH(rows, n).cast<long double>();

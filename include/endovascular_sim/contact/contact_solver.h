@@ -40,6 +40,7 @@
 #include "endovascular_sim/contact/friction.h"
 #include "endovascular_sim/contact/lcp.h"
 #include "endovascular_sim/geometry/implicit_surface.h"
+#include "endovascular_sim/geometry/interior_ball.h"
 #include "endovascular_sim/geometry/root_finding.h"
 #include "endovascular_sim/mechanics/implicit_euler.h"
 
@@ -56,6 +57,8 @@ struct ContactOptions {
   bool friction{false};                // effect 'friction': Coulomb friction (NSGS)
   bool wall_curvature{true};           // the wall's curvature in A (contact/wall_curvature.h)
   int curvature_loops{1000};           // loops that update C (then A + C and its band are kept)
+  bool interior_balls{true};           // spare evaluations in certified balls (sample_fields.h)
+  bool detect_on_first_iterate{true};  // with kept contacts, detect on x_t -> x_1, not -> x_f
   FrictionOptions friction_solver;     // its tolerance and sweep limit
 };
 
@@ -140,6 +143,10 @@ struct ContactProblem {
   /// Effect 'coaxial': per device, the device whose lumen it runs in (-1:
   /// none). Null or empty: no coaxial devices.
   const std::vector<int>* outer_of{nullptr};
+  /// Per device and sample point, the certified interior ball of its last
+  /// evaluation (geometry/interior_ball.h), kept across steps while the
+  /// surface is at rest (null: none kept, every point evaluated).
+  std::vector<std::vector<InteriorBall>>* interior{nullptr};
 };
 
 /// Corrects ws.dq of every device so that no sample point lies beyond the

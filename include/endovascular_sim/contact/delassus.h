@@ -10,7 +10,7 @@
 //    n x c matrix; updateChainDelassusOperator updates a previous W in
 //    place for the rows that changed since (with few, their columns alone:
 //    carried down and their rows up the chain) and keeps the rest;
-//  - delassusOperator: one CHOLMOD solve with a block of c right-hand sides
+//  - delassusOperator: one block solve with c right-hand sides
 //    gives Y = A^-1 H^T (banded triangular solves, both directions over the
 //    whole chain), then W_ij = h_i . Y_j over the 12 non-zeros of h_i.
 // The naive alternative, c separate solves and a dense product H Y
@@ -21,7 +21,6 @@
 
 #include "endovascular_sim/contact/contact_point.h"
 #include "endovascular_sim/mechanics/chain_inverse.h"
-#include "endovascular_sim/mechanics/sparse_cholesky.h"
 
 namespace evsim {
 
@@ -35,9 +34,20 @@ struct ContactRow {
   Row12 h[2]{Row12::Zero(), Row12::Zero()};
 };
 
-/// Y = A^-1 H^T (free DOFs x c) and W = H Y (c x c).
-void delassusOperator(SparseCholesky& cholesky, const std::vector<ContactRow>& rows, MatX* Y,
-                      MatX* W);
+/// H^T (free DOFs x c) of the rows over n free DOFs.
+MatX transposedRows(int n, const std::vector<ContactRow>& rows);
+/// W = H Y (c x c) from Y = A^-1 H^T.
+void rowsTimes(const std::vector<ContactRow>& rows, const MatX& Y, MatX* W);
+
+/// Y = A^-1 H^T (free DOFs x c) and W = H Y (c x c), with any factor of A
+/// over the free nodes that solves a block of right-hand sides: the
+/// device's chain factor (mechanics/chain_factor.h) in the contact solver,
+/// CHOLMOD's (mechanics/sparse_cholesky.h) as an independent check.
+template <typename Factor>
+void delassusOperator(Factor& factor, const std::vector<ContactRow>& rows, MatX* Y, MatX* W) {
+  factor.solve(transposedRows(factor.size(), rows), Y);
+  rowsTimes(rows, *Y, W);
+}
 
 /// W = H A^-1 H^T (c x c) from the selected inverse of A over the free
 /// nodes.

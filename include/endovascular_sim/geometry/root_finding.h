@@ -50,6 +50,14 @@ SurfacePoint firstRootFrom(const ImplicitSurface& field, const Vec3& p0, const F
                            const Vec3& p1, double device_radius, const MotionSnapshot& motion = {},
                            const RootOptions& options = {});
 
+/// firstRootFrom with the field at p1 known too (at_end = evaluate(p1)): the
+/// path is certified from both ends (a point near the wall whose short
+/// path ends inside costs no evaluation where the bounds from its two ends
+/// meet). The same answer as firstRootFrom.
+SurfacePoint firstRootBetween(const ImplicitSurface& field, const Vec3& p0, const FieldSample& at,
+                              const Vec3& p1, const FieldSample& at_end, double device_radius,
+                              const MotionSnapshot& motion = {}, const RootOptions& options = {});
+
 /// Surface point reached from x along the gradient direction at x, and its
 /// normal. hit is false when no surface lies within max_distance [m].
 SurfacePoint projectToSurface(const ImplicitSurface& field, const Vec3& x, double device_radius,

@@ -2,9 +2,9 @@
 // tridiagonal, mechanics/chain_matrix.h): the blocks of S = A^-1 on the band,
 // without the rest of S.
 //
-// Block LDL^T of the trailing blocks [first, N):
-//   D_0 = A_00,   L_i = A_{i,i-1} D_{i-1}^-1,   D_i = A_ii - L_i A_{i-1,i},
-// then the band of S from the last block down (Takahashi's recursion):
+// From the block LDL^T of the trailing blocks [first, N)
+// (mechanics/chain_factor.h), the band of S from the last block down
+// (Takahashi's recursion):
 //   S_{n-1,n-1} = D_{n-1}^-1,  S_{i+1,i} = -S_{i+1,i+1} L_{i+1},
 //   S_ii = D_i^-1 - L_{i+1}^T S_{i+1,i}.
 // Away from the band, column j of S follows from L^T S = D^-1 L^-1 (lower
@@ -16,15 +16,18 @@
 #include <vector>
 
 #include "endovascular_sim/core/types.h"
+#include "endovascular_sim/mechanics/chain_factor.h"
 #include "endovascular_sim/mechanics/chain_matrix.h"
 
 namespace evsim {
 
 class ChainInverse {
  public:
-  /// Factorises blocks [first, A.numBlocks()) of A; false when a pivot block
-  /// is not positive definite.
+  /// Factorises blocks [first, A.numBlocks()) of A and computes the band;
+  /// false when a pivot block is not positive definite.
   bool compute(const ChainMatrix& A, int first);
+  /// The band from a factor already made of the same matrix.
+  void computeFrom(const ChainFactor& factor);
   /// Blocks of the factorised part (indices below are relative to `first`).
   int numBlocks() const { return static_cast<int>(diag_.size()); }
   /// S_ii.
@@ -33,18 +36,19 @@ class ChainInverse {
   const Mat6& subdiagonal(int i) const { return sub_[i]; }
   /// The transfer -L_{i+1}^T: S_ij g = transfer(i) S_{i+1,j} g for i < j
   /// (several columns at once: transfer(i) V).
-  const Mat6& transfer(int i) const { return transfer_[i]; }
+  const Mat6& transfer(int i) const { return factor_.transfer(i); }
   /// S_ij g for i < j from S_{i+1,j} g.
-  Vec6 propagateDown(int i, const Vec6& v_above) const { return transfer_[i] * v_above; }
+  Vec6 propagateDown(int i, const Vec6& v_above) const { return transfer(i) * v_above; }
   /// b <- A^-1 b over the factorised blocks (6 numBlocks() entries), from
-  /// the block LDL^T: forward through L, D^-1, back through L^T.
-  void solveInPlace(VecX* b) const;
+  /// the block LDL^T.
+  void solveInPlace(VecX* b) const { factor_.solveInPlace(b); }
+  const ChainFactor& factor() const { return factor_; }
 
  private:
-  std::vector<Mat6> transfer_;  // -L_{i+1}^T, i in [0, n-1)
-  std::vector<Mat6> diag_;      // S_ii
-  std::vector<Mat6> sub_;       // S_{i+1,i}
-  std::vector<Mat6> d_inv_;     // D_i^-1
+  void computeBand();
+  ChainFactor factor_;
+  std::vector<Mat6> diag_;  // S_ii
+  std::vector<Mat6> sub_;   // S_{i+1,i}
 };
 
 }  // namespace evsim

@@ -1,9 +1,10 @@
 // Free motion of a device over one time step, linearised implicit Euler:
 //   A dq = f_ext - f_int(q) + M v / dt,   A = M/dt^2 + D/dt + K(q),
 //   D = alpha M + beta K (Rayleigh damping),  v_next = dq / dt,
-// with the held (introducer) nodes prescribed. A is assembled sparse every
-// step and factorised by CHOLMOD; the factor stays in the workspace so that
-// the contact solver can solve with A again.
+// with the held (introducer) nodes prescribed. A is assembled every step
+// and factorised as a chain (block LDL^T, mechanics/chain_factor.h); the
+// factor stays in the workspace so that the contact solver can solve with A
+// again.
 #pragma once
 
 #include <vector>
@@ -14,28 +15,23 @@
 #include "endovascular_sim/mechanics/device_model.h"
 #include "endovascular_sim/mechanics/device_state.h"
 #include "endovascular_sim/mechanics/introducer.h"
-#include "endovascular_sim/mechanics/sparse_cholesky.h"
 
 namespace evsim {
 
 /// Per-device workspace of a step (Data).
 struct DeviceWorkspace {
-  ChainMatrix stiffness;              // K over all nodes
-  ChainMatrix system;                 // A over all nodes
-  VecX elastic_gradient;              // f_int (6 * num_nodes)
-  VecX rhs;                           // right-hand side over the free nodes
-  VecX dq;                            // free-motion increment of all nodes (6 * num_nodes)
-  int first_free_node{-1};            // nodes [0, first_free_node) are held
-  ChainCscPattern pattern;            // CSC pattern of A over the free nodes
-  std::vector<double> values;         // CSC values
-  SparseCholesky cholesky;            // factor of A over the free nodes
-  ChainMatrix curved_system;          // A + C (the contact solver's wall curvature)
-  std::vector<double> curved_values;  // its CSC values
-  SparseCholesky curved;              // its factor
-  int curved_size{-1};                // dimension its symbolic analysis was done for
-  ChainInverse inverse;               // band of A^-1 or (A + C)^-1 (the Delassus operator)
-  MatX delassus_storage;  // the contact solver's W between steps (its DelassusBuffer's storage,
-                          // kept so that no step allocates and faults it in again)
+  ChainMatrix stiffness;      // K over all nodes
+  ChainMatrix system;         // A over all nodes
+  VecX elastic_gradient;      // f_int (6 * num_nodes)
+  VecX rhs;                   // right-hand side over the free nodes
+  VecX dq;                    // free-motion increment of all nodes (6 * num_nodes)
+  int first_free_node{-1};    // nodes [0, first_free_node) are held
+  ChainFactor factor;         // block LDL^T of A over the free nodes
+  ChainMatrix curved_system;  // A + C (the contact solver's wall curvature)
+  ChainFactor curved;         // its block LDL^T over the free nodes
+  ChainInverse inverse;       // band of A^-1 or (A + C)^-1 (the Delassus operator)
+  MatX delassus_storage;      // the contact solver's W between steps (its DelassusBuffer's storage,
+                              // kept so that no step allocates and faults it in again)
   double elastic_energy{0.0};  // [J] at the start of the step
 };
 

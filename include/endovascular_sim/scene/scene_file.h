@@ -58,6 +58,10 @@ struct SceneSpec {
   ContactOptions contact;
   std::vector<DevicePlacementSpec> devices;
   std::vector<ScriptedCommand> script;  // sorted by time
+  /// Length of the scripted procedure [s]: what `evsim bench` and the
+  /// node's benchmark run by default. The file's `duration`, else the last
+  /// command's time + 1 s (at least 1 s).
+  double duration{1.0};
 };
 
 /// Builds the centreline (with its generated network) and the field of a

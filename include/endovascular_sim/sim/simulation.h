@@ -62,6 +62,7 @@ struct SceneModel {
   std::vector<double> initial_rotation;         // [rad]
   std::vector<int> outer_of;  // effect 'coaxial': per device its outer device (-1); else empty
   std::vector<ScriptedCommand> script;
+  double duration{1.0};  // [s] of the scripted procedure (SceneSpec::duration)
 };
 
 /// Statistics of the last step (reset every step; sums over its sub-steps).
@@ -96,8 +97,9 @@ struct SimData {
   std::vector<DeviceState> devices;
   std::vector<DriveCommand> commands;
   std::vector<DeviceWorkspace> workspaces;
-  std::vector<Contact> contacts;  // of the last (sub-)step, with forces
-  bool record_lcp{false};         // keep the last LCP in `lcp` (dumps, tests)
+  std::vector<Contact> contacts;                          // of the last (sub-)step, with forces
+  std::vector<std::vector<InteriorBall>> interior_balls;  // detection's, per device sample
+  bool record_lcp{false};  // keep the last LCP in `lcp` (dumps, tests)
   LcpRecord lcp;
   size_t next_script_entry{0};
   StepStats stats;

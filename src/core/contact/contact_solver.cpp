@@ -12,11 +12,13 @@
 #include "endovascular_sim/contact/delassus.h"
 #include "endovascular_sim/contact/wall_curvature.h"
 #include "endovascular_sim/mechanics/elasticity.h"
+#include "sample_fields.h"
 #include "wall_planes.h"
 
 namespace evsim {
 namespace {
 
+using fields::SampleFields;
 using pairs::findPairs;
 using pairs::Pair;
 using pairs::pairNormal;
@@ -108,6 +110,125 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
     }
   }
   return pts;
+}
+
+/// A wall contact of the previous step that starts this one: it carried a
+/// force and its point still takes part.
+bool keptWallContact(const ContactProblem& pb, const Contact& prev) {
+  if (prev.other_device >= 0 || !(prev.force > 0.0) ||
+      prev.device >= static_cast<int>(pb.devices->size()))
+    return false;
+  return takesPart(pb, prev.device, (*pb.samples)[prev.device][prev.sample]);
+}
+
+bool hasKeptWallContacts(const ContactProblem& pb) {
+  if (!pb.previous) return false;
+  for (const Contact& prev : *pb.previous)
+    if (keptWallContact(pb, prev)) return true;
+  return false;
+}
+
+/// Wall contacts that carried a force in the previous step start this one
+/// (a pre-shaped tip held against the wall springs back out in the free
+/// motion, and without its contact the first loops chase it millimetres
+/// away), their planes where their points at x_t project on the wall.
+void keepWallContacts(const ContactProblem& pb, const RootOptions& root,
+                      std::vector<Contact>* contacts, std::vector<std::vector<int>>* contact_of) {
+  if (!pb.previous || !pb.surface) return;
+  for (const Contact& prev : *pb.previous) {
+    if (!keptWallContact(pb, prev)) continue;
+    const int d = prev.device, k = prev.sample;
+    if ((*contact_of)[d][k] >= 0) continue;
+    const SamplePoint& s = (*pb.samples)[d][k];
+    const SurfacePoint plane =
+        projectToSurface(*pb.surface, samplePosition((*pb.devices)[d], (*pb.start)[d], s), s.radius,
+                         pb.motion, 0.01, root);
+    if (!plane.hit) continue;
+    (*contact_of)[d][k] = static_cast<int>(contacts->size());
+    Contact ct{d, k, plane.point, plane.normal, 0, 0};
+    ct.force = prev.force;  // the friction solver's warm start
+    ct.friction = prev.friction;
+    contacts->push_back(ct);
+  }
+}
+
+/// The paper's detection on [x_t, x_f]: per element of each device, the
+/// sample point deepest beyond the wall at x_f becomes a contact, its plane
+/// at the first root of its path (the activation loop adds any other point
+/// of the element that stays beyond). A path that ends inside but left the
+/// lumen on the way (a corner cut through tissue) is a crossing too, at its
+/// first root. Only the chosen point's root is searched: the depth at x_f
+/// ranks the others for one evaluation each. Returns true when a point
+/// beyond the wall has no plane (beyond every vessel's support: the step
+/// cannot be solved).
+bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState>& xf,
+                         const RootOptions& root, SampleFields* field,
+                         std::vector<Contact>* contacts,
+                         std::vector<std::vector<int>>* contact_of) {
+  const auto& devices = *pb.devices;
+  const auto& start = *pb.start;
+  const auto& samples = *pb.samples;
+  const ImplicitSurface& surface = *pb.surface;
+  bool stranded = false;
+  // The first root of sample k's path (g1: the field at its end, when
+  // known), or its projection at x_f when it starts beyond the wall (within
+  // the tolerance band, or a moving wall).
+  auto crossing = [&](size_t d, int k, const Vec3& p0, const Vec3& p1, const FieldSample* g1) {
+    const SamplePoint& s = samples[d][k];
+    const FieldSample& g0 = field->start(d, k, p0, s.radius, pb.motion);
+    SurfacePoint hit = g1 ? firstRootBetween(surface, p0, g0, p1, *g1, s.radius, pb.motion, root)
+                          : firstRootFrom(surface, p0, g0, p1, s.radius, pb.motion, root);
+    if (hit.hit && hit.started_outside) {
+      hit = projectToSurface(surface, p1, s.radius, pb.motion, 0.01, root);
+      if (!hit.hit) stranded = true;  // beyond every vessel's support: no plane
+    }
+    return hit;
+  };
+  for (size_t d = 0; d < devices.size(); ++d) {
+    struct Best {
+      int sample{-1};
+      double depth{-1.0};
+      SurfacePoint hit;  // (not yet searched when !hit.hit)
+    } best;
+    int element = -1;
+    auto flush = [&]() {
+      if (best.sample < 0) return;
+      const SamplePoint& s = samples[d][best.sample];
+      if (!best.hit.hit)
+        best.hit = crossing(d, best.sample, samplePosition(devices[d], start[d], s),
+                            samplePosition(devices[d], xf[d], s), nullptr);
+      if (best.hit.hit) {
+        (*contact_of)[d][best.sample] = static_cast<int>(contacts->size());
+        contacts->push_back(
+            {static_cast<int>(d), best.sample, best.hit.point, best.hit.normal, 0, 0});
+      }
+      best = Best{};
+    };
+    for (size_t k = 0; k < samples[d].size(); ++k) {
+      const SamplePoint& s = samples[d][k];
+      if (s.element != element) {
+        flush();
+        element = s.element;
+      }
+      if (!takesPart(pb, d, s)) continue;
+      const Vec3 p0 = samplePosition(devices[d], start[d], s);
+      const Vec3 p1 = samplePosition(devices[d], xf[d], s);
+      if (field->startInside(d, k, p0, p1, s.radius, pb.motion)) continue;
+      if ((*contact_of)[d][k] >= 0) continue;  // a contact already (kept from the last step)
+      const FieldSample& g1 = field->end(d, k, p1, s.radius, pb.motion);
+      if (g1.value < 0.0) {  // beyond at x_f: ranked by its depth, searched if deepest
+        const double depth = depthOf(g1);
+        if (depth > best.depth) best = {static_cast<int>(k), depth, SurfacePoint{}};
+        continue;
+      }
+      const SurfacePoint hit = crossing(d, k, p0, p1, &g1);
+      if (!hit.hit) continue;
+      const double depth = -hit.normal.dot(p1 - hit.point);
+      if (depth > best.depth) best = {static_cast<int>(k), depth, hit};
+    }
+    flush();
+  }
+  return stranded;
 }
 
 /// Effect 'coaxial': a point of an inner device beyond its outer device's
@@ -269,17 +390,13 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
   }
   for (size_t d = 0; d < nd; ++d) {
     DeviceWorkspace& w = ws[d];
-    const int n = w.cholesky.size();
+    const int n = w.factor.size();
     if ((*C)[d].numBlocks() == 0 || n == 0) continue;
     ChainMatrix& Ac = w.curved_system;  // storage kept across loops and steps
     Ac = w.system;
     for (int i = 0; i < Ac.numBlocks(); ++i) {
       Ac.diag[i] += (*C)[d].diag[i];
       if (i + 1 < Ac.numBlocks()) Ac.upper[i] += (*C)[d].upper[i];
-    }
-    if (w.curved_size != n) {
-      w.curved.analyze(w.pattern.size, w.pattern.col_ptr, w.pattern.row_idx);
-      w.curved_size = n;
     }
     // (C is positive semi-definite, so this should not fail; if it does, A.)
     if (rows[d] >= kChainDelassusMinRows) {
@@ -290,34 +407,31 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
         continue;
       }
     }
-    w.pattern.gather(Ac, &w.curved_values);
-    (*curved)[d] = w.curved.factorize(w.curved_values) ? 1 : 0;
+    (*curved)[d] = w.curved.factorize(Ac, w.first_free_node) ? 1 : 0;
   }
 }
 
 /// The QP step's free motion about the iterate dq for the devices with a
 /// curvature term: (*dq_step)[d] = (A + C)^-1 (A dq_free + C dq_k), and
 /// their factor that of A + C. Others keep A and dq_free. The solve uses
-/// the band's block LDL^T where it holds A + C, else CHOLMOD's factor.
+/// the band's block LDL^T where it holds A + C, else the device's factor
+/// of A + C.
 void curvedFreeMotion(const ContactProblem& pb, const std::vector<ChainMatrix>& C,
                       const std::vector<char>& curved, const std::vector<Band>& band,
                       const std::vector<VecX>& dq, std::vector<VecX>* dq_step,
-                      std::vector<SparseCholesky*>* factor) {
+                      std::vector<const ChainFactor*>* factor) {
   auto& ws = *pb.workspaces;
   for (size_t d = 0; d < curved.size(); ++d) {
     if (!curved[d]) continue;
     DeviceWorkspace& w = ws[d];
-    const int n = w.cholesky.size(), held = 6 * w.first_free_node;
+    const int n = w.factor.size(), held = 6 * w.first_free_node;
     VecX free = (*dq_step)[d], iterate = dq[d];
     free.head(held).setZero();
     iterate.head(held).setZero();
     VecX rhs = (w.system.multiply(free) + C[d].multiply(iterate)).tail(n);
-    if (band[d] == Band::kOfCurved)
-      w.inverse.solveInPlace(&rhs);
-    else
-      w.curved.solveInPlace(&rhs);
+    (*factor)[d] = band[d] == Band::kOfCurved ? &w.inverse.factor() : &w.curved;
+    (*factor)[d]->solveInPlace(&rhs);
     (*dq_step)[d].tail(n) = rhs;
-    (*factor)[d] = &w.curved;
   }
 }
 
@@ -332,6 +446,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   const size_t nd = devices.size();
   contacts->clear();
   *st = ContactStats{};
+  const RootOptions& root = o.root;
 
   // --- Detection on [x_t, x_f] -------------------------------------------
   auto t0 = Clock::now();
@@ -340,74 +455,26 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   const std::vector<DeviceState> xf = moved(start, dq_free);
   std::vector<std::vector<int>> contact_of(nd);  // sample -> contact index or -1
   for (size_t d = 0; d < nd; ++d) contact_of[d].assign(samples[d].size(), -1);
-  // The field at each sample's x_t and at the loop's x: the converged answer's
-  // paths are checked for tunnels.
-  std::vector<std::vector<FieldSample>> start_field(nd), end_field(nd);
-  for (size_t d = 0; d < nd && pb.surface; ++d) {
-    start_field[d].resize(samples[d].size());
-    end_field[d].resize(samples[d].size());
-  }
-  bool stranded = false;  // a point beyond the wall where no plane can be found
-  for (size_t d = 0; d < nd && pb.surface; ++d) {
-    // Per element, the deepest crossing at x_f only: the activation loop adds
-    // any other point of the element that stays beyond the wall.
-    int best_element = -1, best_sample = -1;
-    double best_depth = -1.0;
-    SurfacePoint best_hit;
-    auto flush = [&]() {
-      if (best_sample < 0) return;
-      contact_of[d][best_sample] = static_cast<int>(contacts->size());
-      contacts->push_back(
-          {static_cast<int>(d), best_sample, best_hit.point, best_hit.normal, 0, 0});
-      best_sample = -1;
-      best_depth = -1.0;
-    };
-    for (size_t k = 0; k < samples[d].size(); ++k) {
-      const SamplePoint& s = samples[d][k];
-      if (s.element != best_element) {
-        flush();
-        best_element = s.element;
-      }
-      if (!takesPart(pb, d, s)) continue;
-      const Vec3 p0 = samplePosition(devices[d], start[d], s);
-      const Vec3 p1 = samplePosition(devices[d], xf[d], s);
-      start_field[d][k] = pb.surface->evaluate(p0, s.radius, pb.motion);
-      SurfacePoint hit =
-          firstRootFrom(*pb.surface, p0, start_field[d][k], p1, s.radius, pb.motion, o.root);
-      if (!hit.hit) continue;
-      if (hit.started_outside) {  // already beyond the wall (moving wall, tolerance)
-        hit = projectToSurface(*pb.surface, p1, s.radius, pb.motion, 0.01, o.root);
-        if (!hit.hit) {  // beyond every vessel's support: no plane, never solved
-          stranded = true;
-          continue;
-        }
-      }
-      const double depth = -hit.normal.dot(p1 - hit.point);
-      if (depth > best_depth) {
-        best_depth = depth;
-        best_sample = static_cast<int>(k);
-        best_hit = hit;
-      }
-    }
-    flush();
-  }
-  // Wall contacts that carried a force in the previous step, planes at x_t.
-  if (pb.previous && pb.surface) {
-    for (const Contact& prev : *pb.previous) {
-      if (prev.other_device >= 0 || prev.force <= 0.0 || prev.device >= static_cast<int>(nd))
-        continue;
-      const int d = prev.device, k = prev.sample;
-      const SamplePoint& s = samples[d][k];
-      if (contact_of[d][k] >= 0 || !takesPart(pb, d, s)) continue;
-      const SurfacePoint plane = projectToSurface(
-          *pb.surface, samplePosition(devices[d], start[d], s), s.radius, pb.motion, 0.01, o.root);
-      if (!plane.hit) continue;
-      contact_of[d][k] = static_cast<int>(contacts->size());
-      Contact ct{d, k, plane.point, plane.normal, 0, 0};
-      ct.force = prev.force;  // the friction solver's warm start
-      ct.friction = prev.friction;
-      contacts->push_back(ct);
-    }
+  // The field at each sample's x_t and at the loop's x, where a certified
+  // ball does not spare it: the converged answer's paths are checked for
+  // tunnels.
+  std::vector<size_t> counts(nd);
+  for (size_t d = 0; d < nd; ++d) counts[d] = samples[d].size();
+  const bool keep_balls = o.interior_balls && pb.interior && pb.motion.empty();
+  SampleFields field(pb.surface, counts, keep_balls ? pb.interior : nullptr);
+  // With wall contacts kept from the last step, the paper's detection runs
+  // on the path to the first loop's iterate instead of the free motion's:
+  // a device held by its contacts swings millimetres away from them in the
+  // free motion, and crossings along that path are undone by the kept
+  // contacts in the first loop anyway (options.detect_on_first_iterate).
+  bool detect_later = o.detect_on_first_iterate && pb.surface && hasKeptWallContacts(pb);
+  // A point beyond the wall where no plane can be found.
+  bool stranded = pb.surface && !detect_later &&
+                  detectWallCrossings(pb, xf, root, &field, contacts, &contact_of);
+  keepWallContacts(pb, root, contacts, &contact_of);
+  if (detect_later && contacts->empty()) {  // no kept contact found its plane
+    detect_later = false;
+    stranded = detectWallCrossings(pb, xf, root, &field, contacts, &contact_of);
   }
   // Device points closer than the sum of their radii at x_f.
   std::map<std::array<int, 4>, int> pair_contact;  // (device, sample, device, sample) -> contact
@@ -482,9 +549,9 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
 
     // --- The wall's curvature: A + C and the QP step's free motion ----------
     t0 = Clock::now();
-    std::vector<SparseCholesky*> factor(nd);
+    std::vector<const ChainFactor*> factor(nd);
     std::vector<VecX> dq_step = dq_free;
-    for (size_t d = 0; d < nd; ++d) factor[d] = &ws[d].cholesky;
+    for (size_t d = 0; d < nd; ++d) factor[d] = &ws[d].factor;
     if (o.wall_curvature && pb.surface) {
       // C from the last loop's forces for the first curvature_loops loops;
       // later loops keep it (and the band of (A + C)^-1): at the answer
@@ -586,11 +653,11 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       if (static_cast<int>(device_rows.size()) < kChainDelassusMinRows) {
         delassusOperator(*factor[d], device_rows, &Y[d], &Wd);
       } else {
-        // The band of (A + C)^-1 whenever C changed, of A once a step.
+        // The band of (A + C)^-1 whenever C changed, of A once a step, from
+        // the factor this loop steps with.
         const Band wanted = curved[d] ? Band::kOfCurved : Band::kOfA;
         if (band[d] != wanted) {
-          const ChainMatrix& A = curved[d] ? ws[d].curved_system : ws[d].system;
-          if (!ws[d].inverse.compute(A, ws[d].first_free_node)) return false;
+          ws[d].inverse.computeFrom(*factor[d]);
           band[d] = wanted;
           last_rows[d].clear();  // nothing to reuse
           last_W[d].size = 0;
@@ -692,23 +759,31 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     // --- Re-detection on x: plane updates and new contacts ------------------
     t0 = Clock::now();
     solved = true;
+    // The first loop after kept contacts: the paper's detection on x_t -> x.
+    const int fresh_from = static_cast<int>(contacts->size());
+    if (loop == 1 && detect_later) {
+      detectWallCrossings(pb, x, root, &field, contacts, &contact_of);  // (stranded: seen below)
+      updated.resize(contacts->size(), 0);
+      solved = static_cast<int>(contacts->size()) == fresh_from;
+    }
     double deepest = 0.0;  // over all points at x: the step's penetration if this is the last loop
     for (size_t d = 0; d < nd && pb.surface; ++d) {
       for (size_t k = 0; k < samples[d].size(); ++k) {
         const SamplePoint& s = samples[d][k];
         if (!takesPart(pb, d, s)) continue;
         const Vec3 p = samplePosition(devices[d], x[d], s);
-        const FieldSample g = pb.surface->evaluate(p, s.radius, pb.motion);
-        end_field[d][k] = g;
+        if (field.endInside(d, k, p, s.radius, pb.motion)) continue;
+        const FieldSample& g = field.end(d, k, p, s.radius, pb.motion);
         deepest = std::max(deepest, depthOf(g));
         if (depthOf(g) <= o.penetration_tolerance) continue;
         solved = false;
+        if (contact_of[d][k] >= fresh_from) continue;  // just detected: solved first
         const Vec3 p0 = samplePosition(devices[d], start[d], s);
-        SurfacePoint plane = projectToSurface(*pb.surface, p, s.radius, pb.motion, 0.01, o.root);
+        SurfacePoint plane = projectToSurface(*pb.surface, p, s.radius, pb.motion, 0.01, root);
         if (!plane.hit) {
           // No projection (beyond every vessel's support the field is flat):
           // the wall where the point's path from x_t crossed it.
-          const SurfacePoint hit = firstRoot(*pb.surface, p0, p, s.radius, pb.motion, o.root);
+          const SurfacePoint hit = firstRoot(*pb.surface, p0, p, s.radius, pb.motion, root);
           if (hit.hit && !hit.started_outside) plane = hit;
           // At x_t already within the tolerance band beyond the wall: where
           // the path, having crossed the lumen, leaves it through the far
@@ -717,8 +792,8 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
           // round a bend). The plane where it was would hold nothing: the
           // point satisfies it, and it was added again in every loop.
           if (hit.started_outside) {
-            plane = farExit(*pb.surface, p0, p, s.radius, pb.motion, o.root);
-            if (!plane.hit) plane = lastWallAlong(*pb.surface, p0, p, s.radius, pb.motion, o.root);
+            plane = farExit(*pb.surface, p0, p, s.radius, pb.motion, root);
+            if (!plane.hit) plane = lastWallAlong(*pb.surface, p0, p, s.radius, pb.motion, root);
           }
         }
         const int existing = contact_of[d][k];
@@ -732,7 +807,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
           continue;
         }
         if (existing < 0) {
-          SurfacePoint hit = firstRoot(*pb.surface, p0, p, s.radius, pb.motion, o.root);
+          SurfacePoint hit = firstRoot(*pb.surface, p0, p, s.radius, pb.motion, root);
           if (hit.hit && !hit.started_outside) plane = hit;
         }
         // A new contact, or a second plane for a point violated again after
@@ -803,9 +878,12 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       for (size_t k = 0; k < samples[d].size(); ++k) {
         const SamplePoint& s = samples[d][k];
         if (!takesPart(pb, d, s)) continue;
-        const SurfacePoint exit = tunnelExit(*pb.surface, samplePosition(devices[d], start[d], s),
-                                             start_field[d][k], samplePosition(devices[d], x[d], s),
-                                             end_field[d][k], s.radius, pb.motion, o.root);
+        const Vec3 p0 = samplePosition(devices[d], start[d], s);
+        const Vec3 p = samplePosition(devices[d], x[d], s);
+        if (field.chordInside(d, k, p0, p)) continue;
+        const SurfacePoint exit =
+            tunnelExit(*pb.surface, p0, field.start(d, k, p0, s.radius, pb.motion), p,
+                       field.end(d, k, p, s.radius, pb.motion), s.radius, pb.motion, root);
         if (!exit.hit) continue;
         ++st->tunnelled;
         solved = false;

@@ -4,9 +4,7 @@
 
 namespace evsim {
 
-void delassusOperator(SparseCholesky& cholesky, const std::vector<ContactRow>& rows, MatX* Y,
-                      MatX* W) {
-  const int n = cholesky.size();
+MatX transposedRows(int n, const std::vector<ContactRow>& rows) {
   const int c = static_cast<int>(rows.size());
   MatX Ht = MatX::Zero(n, c);
   for (int j = 0; j < c; ++j)
@@ -15,7 +13,12 @@ void delassusOperator(SparseCholesky& cholesky, const std::vector<ContactRow>& r
         const int dof = rows[j].offset[part] + k;
         if (dof >= 0 && dof < n) Ht(dof, j) += rows[j].h[part](k);
       }
-  cholesky.solve(Ht, Y);
+  return Ht;
+}
+
+void rowsTimes(const std::vector<ContactRow>& rows, const MatX& Y, MatX* W) {
+  const int c = static_cast<int>(rows.size());
+  const int n = static_cast<int>(Y.rows());
   W->resize(c, c);
   for (int i = 0; i < c; ++i)
     for (int j = 0; j <= i; ++j) {
@@ -23,7 +26,7 @@ void delassusOperator(SparseCholesky& cholesky, const std::vector<ContactRow>& r
       for (int part = 0; part < rows[i].parts; ++part)
         for (int k = 0; k < 12; ++k) {
           const int dof = rows[i].offset[part] + k;
-          if (dof >= 0 && dof < n) w += rows[i].h[part](k) * (*Y)(dof, j);
+          if (dof >= 0 && dof < n) w += rows[i].h[part](k) * Y(dof, j);
         }
       (*W)(i, j) = (*W)(j, i) = w;
     }

@@ -297,13 +297,25 @@ LcpStatus lemke(const MatXView& W, const VecX& q, const LcpOptions& o, VecX* z, 
     const int entering = leaving < c ? leaving + c : leaving - c;  // complement
     int best = -1;
     double ratio = 0.0;
+    // Ties (a degenerate q: every point of a wire dropping onto one plane
+    // has the same gap) are broken lexicographically on the rows of the
+    // basis inverse (the tableau's first c columns), which keeps Lemke from
+    // cycling into a ray; z0 leaves whenever it ties.
+    auto lexicographicallySmaller = [&](int r, int b) {
+      for (int j = 0; j < c; ++j) {
+        const double u = T(r, j) / T(r, entering), v = T(b, j) / T(b, entering);
+        if (std::abs(u - v) > 1e-14 * std::max(1.0, std::max(std::abs(u), std::abs(v))))
+          return u < v;
+      }
+      return false;
+    };
     for (int r = 0; r < c; ++r) {
       if (T(r, entering) <= 1e-12) continue;
       const double t = T(r, 2 * c + 1) / T(r, entering);
-      // Ties: prefer z0 leaving, then the smallest basis index.
-      if (best < 0 || t < ratio - 1e-14 ||
-          (std::abs(t - ratio) <= 1e-14 &&
-           (basis[r] == 2 * c || (basis[best] != 2 * c && basis[r] < basis[best])))) {
+      const bool tie = best >= 0 && std::abs(t - ratio) <= 1e-14;
+      if (best < 0 || (!tie && t < ratio) ||
+          (tie && basis[best] != 2 * c &&
+           (basis[r] == 2 * c || lexicographicallySmaller(r, best)))) {
         best = r;
         ratio = t;
       }

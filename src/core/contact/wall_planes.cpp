@@ -42,9 +42,10 @@ SurfacePoint tunnelExit(const ImplicitSurface& surface, const Vec3& p0, const Fi
   if (!justInside(surface, radius, motion, root, &from, &g_from) ||
       !justInside(surface, radius, motion, root, &to, &g_to))
     return {};
-  const SurfacePoint exit = firstRootFrom(surface, from, g_from, to, radius, motion, root);
+  const SurfacePoint exit = firstRootBetween(surface, from, g_from, to, g_to, radius, motion, root);
   if (!exit.hit || exit.started_outside) return {};
-  const SurfacePoint entry = firstRootFrom(surface, to, g_to, from, radius, motion, root);
+  const SurfacePoint entry =
+      firstRootBetween(surface, to, g_to, from, g_from, radius, motion, root);
   if (!entry.hit || entry.started_outside) return {};
   // Between two points inside: a tunnel when the walls face each other.
   if (g0.value >= 0.0 && g.value >= 0.0)

@@ -68,23 +68,14 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
     ws->rhs.head<6>() -= A.upper[held].transpose() * ws->dq.segment<6>(6 * held);
   if (times) times->assembly_ms = msSince(t0);
 
-  if (nf == 0) {
-    ws->first_free_node = first_free;
-    ws->cholesky.analyze(0, {}, {});
-    return true;
-  }
+  ws->first_free_node = first_free;
   const auto t1 = Clock::now();
-  if (first_free != ws->first_free_node || ws->pattern.size != 6 * nf) {
-    ws->pattern.build(n, first_free);
-    ws->cholesky.analyze(ws->pattern.size, ws->pattern.col_ptr, ws->pattern.row_idx);
-    ws->first_free_node = first_free;
-  }
-  ws->pattern.gather(A, &ws->values);
-  if (!ws->cholesky.factorize(ws->values)) return false;
+  if (!ws->factor.factorize(A, first_free)) return false;
+  if (nf == 0) return true;
   if (times) times->factorization_ms = msSince(t1);
 
   const auto t2 = Clock::now();
-  ws->cholesky.solveInPlace(&ws->rhs);
+  ws->factor.solveInPlace(&ws->rhs);
   ws->dq.tail(6 * nf) = ws->rhs;
   if (times) times->solve_ms = msSince(t2);
   return ws->dq.allFinite();

@@ -18,6 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr double kMaxTimeStep = 0.04;  // [s] one step per 25 Hz frame
+constexpr double kMaxDuration = 3600.0;  // [s] a scripted procedure
 
 Mat3 introducerFrame(const Vec3& direction, const Vec3& up) {
   const Vec3 x = direction.normalized();
@@ -180,6 +181,8 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   };
   o.wall_curvature = flag("wall_curvature", o.wall_curvature);
   o.curvature_loops = whole("curvature_loops", o.curvature_loops);
+  o.interior_balls = flag("interior_balls", o.interior_balls);
+  o.detect_on_first_iterate = flag("detect_on_first_iterate", o.detect_on_first_iterate);
   if (n["friction_solver"]) {
     try {
       o.friction_solver.solver =
@@ -341,6 +344,12 @@ SceneSpec loadSceneFile(const std::string& path) {
     std::stable_sort(
         s.script.begin(), s.script.end(),
         [](const ScriptedCommand& a, const ScriptedCommand& b) { return a.time < b.time; });
+  }
+  s.duration = std::max(1.0, (s.script.empty() ? 0.0 : s.script.back().time) + 1.0);
+  if (root["duration"]) {
+    s.duration = r.number(root["duration"], "duration");
+    if (!(s.duration >= s.time_step && s.duration <= kMaxDuration))
+      r.fail(root["duration"], "duration", "must lie in [time_step, 3600] s");
   }
   return s;
 }

@@ -79,6 +79,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     pb.workspaces = &data->workspaces;
     pb.samples = &model.samples;
     pb.surface = model.surface.get();
+    pb.interior = &data->interior_balls;
     if (model.effects.coaxial) pb.outer_of = &model.outer_of;
     if (model.effects.vessel_motion) {
       const auto t0 = Clock::now();
@@ -185,6 +186,7 @@ SceneModel buildSceneModel(const SceneSpec& spec) {
     if (m.effects.coaxial) m.outer_of.push_back(d.outer);
   }
   m.script = spec.script;
+  m.duration = spec.duration;
   return m;
 }
 

@@ -1,0 +1,86 @@
+// Lazily evaluated fields of the sample points, spared inside certified
+// balls (contact/sample_fields.h); part of the contact solver's detection.
+#include "sample_fields.h"
+
+namespace evsim {
+namespace fields {
+
+SampleFields::SampleFields(const ImplicitSurface* surface, const std::vector<size_t>& counts,
+                           std::vector<std::vector<InteriorBall>>* balls)
+    : surface_(surface), balls_(balls) {
+  const size_t nd = counts.size();
+  start_ball_.resize(nd);
+  start_.resize(nd);
+  end_.resize(nd);
+  end_at_.resize(nd);
+  start_known_.resize(nd);
+  end_known_.resize(nd);
+  if (balls_) balls_->resize(nd);
+  for (size_t d = 0; d < nd; ++d) {
+    start_ball_[d].assign(counts[d], InteriorBall{});
+    start_[d].resize(counts[d]);
+    end_[d].resize(counts[d]);
+    end_at_[d].resize(counts[d]);
+    start_known_[d].assign(counts[d], 0);
+    end_known_[d].assign(counts[d], 0);
+    if (balls_ && (*balls_)[d].size() != counts[d]) (*balls_)[d].assign(counts[d], InteriorBall{});
+  }
+}
+
+void SampleFields::recentre(int d, int k, const Vec3& c, const FieldSample& at, double radius) {
+  if (balls_) (*balls_)[d][k] = interiorBall(*surface_, c, at, radius, kMaxBallRadius);
+}
+
+bool SampleFields::startInside(int d, int k, const Vec3& p0, const Vec3& p1, double radius,
+                               const MotionSnapshot& motion) {
+  if (balls_) {
+    const InteriorBall& ball = (*balls_)[d][k];
+    if (ball.contains(p0) && ball.contains(p1)) {
+      start_ball_[d][k] = ball;
+      return true;
+    }
+  }
+  const FieldSample& g0 = start(d, k, p0, radius, motion);
+  if (!balls_) return false;
+  recentre(d, k, p0, g0, radius);
+  start_ball_[d][k] = (*balls_)[d][k];
+  return start_ball_[d][k].contains(p1);
+}
+
+bool SampleFields::endInside(int d, int k, const Vec3& p, double radius,
+                             const MotionSnapshot& motion) {
+  if (balls_ && (*balls_)[d][k].contains(p)) return true;
+  const FieldSample& g = end(d, k, p, radius, motion);
+  if (balls_ && g.value > 0.0) recentre(d, k, p, g, radius);
+  return false;
+}
+
+bool SampleFields::chordInside(int d, int k, const Vec3& p0, const Vec3& p) const {
+  const InteriorBall& b = start_ball_[d][k];  // holds p0 whenever it exists
+  if (b.contains(p)) return true;
+  return balls_ && (*balls_)[d][k].contains(p0) && (*balls_)[d][k].contains(p);
+}
+
+const FieldSample& SampleFields::start(int d, int k, const Vec3& p0, double radius,
+                                       const MotionSnapshot& motion) {
+  if (!start_known_[d][k]) {
+    start_[d][k] = surface_->evaluate(p0, radius, motion);
+    start_known_[d][k] = 1;
+    ++evaluations_;
+  }
+  return start_[d][k];
+}
+
+const FieldSample& SampleFields::end(int d, int k, const Vec3& p, double radius,
+                                     const MotionSnapshot& motion) {
+  if (!end_known_[d][k] || end_at_[d][k] != p) {
+    end_[d][k] = surface_->evaluate(p, radius, motion);
+    end_at_[d][k] = p;
+    end_known_[d][k] = 1;
+    ++evaluations_;
+  }
+  return end_[d][k];
+}
+
+}  // namespace fields
+}  // namespace evsim

@@ -1,0 +1,61 @@
+// The field at each sample point's start x_t and at the activation loop's
+// x, evaluated only where detection cannot do without it (internal to the
+// contact solver, contact_solver.cpp). A point whose motion stays in its
+// certified interior ball (geometry/interior_ball.h) is inside throughout:
+// no first root, no violation, no tunnel, and no evaluation. The balls are
+// kept across steps (SimData) while the surface is at rest.
+#pragma once
+
+#include <vector>
+
+#include "endovascular_sim/geometry/implicit_surface.h"
+#include "endovascular_sim/geometry/interior_ball.h"
+
+namespace evsim {
+namespace fields {
+
+/// Largest certified ball [m]: its Hessian bound is taken over a box of
+/// twice this size, so a larger one is looser everywhere.
+constexpr double kMaxBallRadius = 2e-3;
+
+class SampleFields {
+ public:
+  /// counts: sample points per device. balls: the balls kept across steps
+  /// (resized to the counts), or null where none may be kept (a moving
+  /// surface, or the option off).
+  SampleFields(const ImplicitSurface* surface, const std::vector<size_t>& counts,
+               std::vector<std::vector<InteriorBall>>* balls);
+
+  /// True when the path p0 -> p1 of point (d, k) is certified inside; else
+  /// its field at p0 is evaluated (and its ball re-centred there) and false.
+  bool startInside(int d, int k, const Vec3& p0, const Vec3& p1, double radius,
+                   const MotionSnapshot& motion);
+  /// True when p (the loop's x) is certified inside; else its field at p is
+  /// evaluated (and its ball re-centred there when inside) and false.
+  bool endInside(int d, int k, const Vec3& p, double radius, const MotionSnapshot& motion);
+  /// True when the chord p0 -> p lies in a certified ball (no tunnel).
+  bool chordInside(int d, int k, const Vec3& p0, const Vec3& p) const;
+
+  /// The field at p0 (x_t), evaluated once a step; at p (the point's place
+  /// in an iterate), evaluated unless the last evaluation was at p.
+  const FieldSample& start(int d, int k, const Vec3& p0, double radius,
+                           const MotionSnapshot& motion);
+  const FieldSample& end(int d, int k, const Vec3& p, double radius, const MotionSnapshot& motion);
+
+  long evaluations() const { return evaluations_; }
+
+ private:
+  /// Re-centres (d, k)'s ball at c, where the field is `at`.
+  void recentre(int d, int k, const Vec3& c, const FieldSample& at, double radius);
+
+  const ImplicitSurface* surface_;
+  std::vector<std::vector<InteriorBall>>* balls_;
+  std::vector<std::vector<InteriorBall>> start_ball_;  // the ball x_t lay in
+  std::vector<std::vector<FieldSample>> start_, end_;
+  std::vector<std::vector<Vec3>> end_at_;  // where end_ was evaluated
+  std::vector<std::vector<char>> start_known_, end_known_;
+  long evaluations_{0};
+};
+
+}  // namespace fields
+}  // namespace evsim

@@ -1,0 +1,156 @@
+// `evsim bench`: step-time statistics of a scene, by default over its whole
+// scripted procedure (the scene's `duration`), overall and per phase:
+//
+//   free      before the first contact
+//   contact   in contact while a drive moves a device
+//   inserted  in contact with every drive at rest (fully inserted, or its
+//             command ended): what a device resting in the vessels costs
+//
+// Each line gives the median, p99 and worst step and the real-time factor
+// (simulated time / wall time) of the phase.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <vector>
+
+#include "commands.h"
+#include "endovascular_sim/sim/simulation.h"
+#include "scene_variants.h"
+
+namespace evsim {
+namespace {
+
+enum class Phase { kFree, kContact, kInserted };
+constexpr const char* kPhaseNames[] = {"free", "contact", "inserted"};
+
+/// One measured step.
+struct BenchStep {
+  double ms;        // wall time of the step [ms]
+  int rows;         // rows of its last LCP (detected contacts)
+  int forces;       // contacts with a positive force
+  int loops;        // activation loops
+  bool subdivided;  // the step was halved at least once
+  Phase phase;
+};
+
+/// The p-th quantile (element p n of the sorted values; the median at 0.5).
+template <typename T>
+T quantile(std::vector<T> values, double p) {
+  std::sort(values.begin(), values.end());
+  return values[std::min(values.size() - 1, static_cast<size_t>(p * values.size()))];
+}
+
+/// One line: steps, median, p99, worst [ms], real-time factor.
+void printTimes(const char* label, const std::vector<BenchStep>& steps, double dt) {
+  std::vector<double> ms;
+  double total = 0.0;
+  for (const BenchStep& b : steps) {
+    ms.push_back(b.ms);
+    total += b.ms;
+  }
+  if (ms.empty()) {
+    std::printf("  %-9s %7d\n", label, 0);
+    return;
+  }
+  std::printf("  %-9s %7zu %9.3f %9.3f %9.3f %9.3f %8.2f\n", label, ms.size(), quantile(ms, 0.5),
+              total / ms.size(), quantile(ms, 0.99), quantile(ms, 1.0),
+              ms.size() * dt * 1e3 / total);
+}
+
+void printContacts(const std::vector<BenchStep>& steps) {
+  std::vector<int> rows, forces;
+  int subdivided = 0, max_loops = 0;
+  for (const BenchStep& b : steps) {
+    rows.push_back(b.rows);
+    forces.push_back(b.forces);
+    subdivided += b.subdivided;
+    max_loops = std::max(max_loops, b.loops);
+  }
+  std::printf(
+      "active contacts: median %d  max %d;  LCP rows: median %d  max %d;  steps subdivided %d;  "
+      "most activation loops %d\n",
+      quantile(forces, 0.5), quantile(forces, 1.0), quantile(rows, 0.5), quantile(rows, 1.0),
+      subdivided, max_loops);
+}
+
+/// Every phase and the whole stretch.
+void printSummary(const std::vector<BenchStep>& steps, double dt) {
+  std::printf("  %-9s %7s %9s %9s %9s %9s %8s\n", "phase", "steps", "median", "mean", "p99",
+              "worst", "RTF");
+  for (int p = 0; p < 3; ++p) {
+    std::vector<BenchStep> part;
+    for (const BenchStep& b : steps)
+      if (static_cast<int>(b.phase) == p) part.push_back(b);
+    printTimes(kPhaseNames[p], part, dt);
+  }
+  printTimes("whole", steps, dt);
+  printContacts(steps);
+}
+
+/// True when any device's drive moved it in the last step.
+bool driveMoved(const std::vector<DeviceState>& before, const std::vector<DeviceState>& after) {
+  for (size_t i = 0; i < before.size(); ++i)
+    if (before[i].inserted_length != after[i].inserted_length ||
+        before[i].rotation_angle != after[i].rotation_angle)
+      return true;
+  return false;
+}
+
+}  // namespace
+
+int benchScene(const BenchOptions& o) {
+  SceneSpec spec = loadSceneFile(resolveScenePath(o.scene));
+  if (o.elements > 0) setElementCount(&spec, o.elements);
+  if (o.effects) {
+    const std::string why = setEffects(&spec, *o.effects);
+    if (!why.empty()) {
+      std::cerr << "evsim: --effects: " << why << "\n";
+      return kExitBadInput;
+    }
+  }
+  const SceneModel model = buildSceneModel(spec);
+  const long whole = std::max(1L, std::lround(model.duration / model.time_step));
+  const long steps = o.steps > 0 ? o.steps : std::max(1L, whole - o.warmup);
+  SimData data = makeData(model);
+  bool touched = false;  // a contact so far
+  std::vector<BenchStep> record;
+  record.reserve(steps);
+  for (long k = 0; k < o.warmup + steps; ++k) {
+    const std::vector<DeviceState> before = data.devices;
+    if (step(model, &data) != StepStatus::kOk) {
+      std::cerr << "evsim: step " << data.step + 1 << " at t = " << data.time
+                << " s failed: " << data.last_error << "\n";
+      return kExitFailure;
+    }
+    const StepStats& s = data.stats;
+    touched = touched || s.contacts > 0;
+    if (k < o.warmup) continue;
+    const Phase phase = !touched                           ? Phase::kFree
+                        : driveMoved(before, data.devices) ? Phase::kContact
+                                                           : Phase::kInserted;
+    record.push_back(
+        {s.wall_ms, s.contacts, s.active_contacts, s.activation_loops, s.subdivisions > 0, phase});
+  }
+  int elements = 0;
+  for (const auto& d : model.devices) elements += d.num_nodes - 1;
+  std::string effect_list;
+  for (const auto& e : spec.effects) effect_list += (effect_list.empty() ? "" : ",") + e;
+  std::printf(
+      "scene %s: %zu device(s), %d elements, effects [%s]; %ld steps of %g ms (t = %.3f to %.3f "
+      "s)\n",
+      model.name.c_str(), model.devices.size(), elements, effect_list.c_str(), steps,
+      model.time_step * 1e3, o.warmup * model.time_step, (o.warmup + steps) * model.time_step);
+  std::printf("step [ms] and real-time factor:\n");
+  printSummary(record, model.time_step);
+  if (o.min_rows > 0) {
+    std::vector<BenchStep> large;
+    for (const BenchStep& b : record)
+      if (b.rows >= o.min_rows) large.push_back(b);
+    std::printf("steps with >= %ld LCP rows: %zu of %ld\n", o.min_rows, large.size(), steps);
+    if (!large.empty()) printSummary(large, model.time_step);
+  }
+  return kExitOk;
+}
+
+}  // namespace evsim

@@ -1,0 +1,47 @@
+// The commands of `evsim`, each a function of its parsed options (main.cpp
+// parses the command line with CLI11). Exit codes: kExitOk, kExitFailure (a
+// step could not be solved, an output could not be written), kExitBadInput
+// (a scene, state or option that is wrong: nothing was simulated).
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace evsim {
+
+constexpr int kExitOk = 0;
+constexpr int kExitFailure = 1;
+constexpr int kExitBadInput = 2;
+
+struct RunOptions {
+  std::string scene;
+  long steps{-1};  // -1: the scene's duration
+  bool json{false};
+  std::string dump_lcp;    // folder for each step's last LCP ("" none)
+  std::string load_state;  // state file to start from ("" none)
+  std::string save_state;  // where the last good state goes ("" none)
+};
+/// `evsim run`: steps a scene, a progress line per 0.1 s or a JSON line per step.
+int runScene(const RunOptions& options);
+
+struct BenchOptions {
+  std::string scene;
+  long steps{-1};  // -1: the scene's duration (less the warm-up)
+  long warmup{0};
+  int elements{0};                     // 0: the scene's discretisation
+  std::optional<std::string> effects;  // replaces the scene's effects
+  long min_rows{0};                    // also report the steps with >= this many LCP rows
+};
+/// `evsim bench`: step-time statistics over the whole scene and per phase.
+int benchScene(const BenchOptions& options);
+
+struct MeshOptions {
+  std::string scene;
+  std::string out;            // .ply or .stl
+  double spacing{0.0};        // [m], 0: automatic
+  double device_radius{0.0};  // [m]
+};
+/// `evsim mesh`: the vessel surface as a triangle mesh.
+int meshScene(const MeshOptions& options);
+
+}  // namespace evsim

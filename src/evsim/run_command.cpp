@@ -1,0 +1,79 @@
+// `evsim run`: steps a scene headless and prints progress or one JSON
+// object per step; optionally dumps each step's LCP and saves the last
+// good state.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "commands.h"
+#include "endovascular_sim/sim/simulation.h"
+#include "endovascular_sim/sim/state_file.h"
+#include "output_paths.h"
+#include "step_json.h"
+
+namespace evsim {
+
+int runScene(const RunOptions& o) {
+  for (const std::string* path : {&o.save_state}) {
+    if (path->empty()) continue;
+    const std::string why = checkWritableFile(*path);
+    if (!why.empty()) {
+      std::cerr << "evsim: --save-state: " << why << "\n";
+      return kExitBadInput;
+    }
+  }
+  if (!o.dump_lcp.empty()) {
+    const std::string why = prepareOutputFolder(o.dump_lcp);
+    if (!why.empty()) {
+      std::cerr << "evsim: --dump-lcp: " << why << "\n";
+      return kExitBadInput;
+    }
+  }
+  const SceneModel model = loadScene(o.scene);  // LoadError: main reports it
+  SimData data = makeData(model);
+  if (!o.load_state.empty()) loadState(model, o.load_state, &data);
+  const long steps = o.steps >= 0
+                         ? o.steps
+                         : std::lround(std::max(0.0, model.duration - data.time) / model.time_step);
+  auto save = [&]() {
+    if (o.save_state.empty() || saveState(model, data, o.save_state)) return true;
+    std::cerr << "evsim: cannot write " << o.save_state << "\n";
+    return false;
+  };
+  data.record_lcp = !o.dump_lcp.empty();
+  const long report_every = std::max(1L, static_cast<long>(0.1 / model.time_step + 0.5));
+  double wall_ms = 0.0;
+  for (long k = 0; k < steps; ++k) {
+    if (step(model, &data) != StepStatus::kOk) {
+      std::cerr << "evsim: step " << data.step + 1 << " failed: " << data.last_error << "\n";
+      save();  // the last good state, to study the failing step from
+      return kExitFailure;
+    }
+    for (const std::string& notice : data.notices) std::cerr << "evsim: " << notice << "\n";
+    data.notices.clear();
+    wall_ms += data.stats.wall_ms;
+    if (data.record_lcp && data.lcp.q.size() > 0) {
+      char name[64];
+      std::snprintf(name, sizeof(name), "/step_%07ld.lcp", data.step);
+      if (!writeLcpRecord(data.lcp, o.dump_lcp + name)) {
+        std::cerr << "evsim: cannot write " << o.dump_lcp + name << "\n";
+        return kExitFailure;
+      }
+    }
+    if (o.json) {
+      std::cout << stepJson(model, data) << "\n";
+    } else if (data.step % report_every == 0 || k + 1 == steps) {
+      const DeviceState& d = data.devices.front();
+      const Vec3& tip = d.position.back();
+      std::cout << "t=" << data.time << " s  " << model.devices.front().name
+                << " inserted=" << d.inserted_length * 1e3 << " mm  tip=(" << tip.x() * 1e3 << ", "
+                << tip.y() * 1e3 << ", " << tip.z() * 1e3
+                << ") mm  contacts=" << data.stats.contacts << "  mean step " << wall_ms / (k + 1)
+                << " ms\n";
+    }
+  }
+  return save() ? kExitOk : kExitFailure;
+}
+
+}  // namespace evsim
