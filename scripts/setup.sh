@@ -19,7 +19,7 @@ packages=(
   ros-visualization-msgs libvisualization-msgs-dev
   ros-std-srvs libstd-srvs-dev
   libtf2-ros-dev libtf2-dev libtf2-msgs-dev ros-tf2-msgs
-  ros-diagnostic-msgs libdiagnostic-msgs-dev
+  ros-diagnostic-msgs libdiagnostic-msgs-dev libros-rosgraph-msgs-dev python3-rosgraph-msgs
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   # Python side of the rostests (message bindings, rosservice, rosnode)
   python3-genpy python3-std-msgs python3-geometry-msgs python3-nav-msgs

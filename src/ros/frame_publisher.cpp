@@ -2,6 +2,7 @@
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/TransformStamped.h>
+#include <rosgraph_msgs/Clock.h>
 
 #include <boost/make_shared.hpp>
 #include <sstream>
@@ -33,11 +34,15 @@ diagnostic_msgs::KeyValue keyValue(const std::string& key, double value) {
 }  // namespace
 
 FramePublisher::FramePublisher(ros::NodeHandle nh, std::string frame_id, MarkerStyle style,
-                               double vessel_mesh_period_s)
+                               double vessel_mesh_period_s, bool publish_clock)
     : nh_(nh),
       frame_id_(std::move(frame_id)),
       style_(style),
       vessel_mesh_period_s_(vessel_mesh_period_s) {
+  const ros::WallTime start = ros::WallTime::now();  // (ros::Time may follow /clock)
+  epoch_ = ros::Time(start.sec, start.nsec);
+  last_clock_ = epoch_;
+  if (publish_clock) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   stats_pub_ = nh_.advertise<endovascular_sim::StepStats>("stats", 10);
   contacts_pub_ = nh_.advertise<endovascular_sim::ContactArray>("contacts", 10);
   states_pub_ = nh_.advertise<endovascular_sim::DeviceStatusArray>("device_states", 10);
@@ -53,9 +58,10 @@ FramePublisher::FramePublisher(ros::NodeHandle nh, std::string frame_id, MarkerS
   diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
 }
 
-void FramePublisher::setScene(const SceneModel& model, std::shared_ptr<const SurfaceMesh> mesh,
-                              ros::Time epoch) {
-  epoch_ = epoch;
+void FramePublisher::restartClock() { epoch_ = last_clock_ + ros::Duration(0, 1000); }
+
+void FramePublisher::setScene(const SceneModel& model, std::shared_ptr<const SurfaceMesh> mesh) {
+  restartClock();
   path_pubs_.clear();
   detached_path_pubs_.clear();
   for (const DeviceModel& d : model.devices) {
@@ -74,7 +80,7 @@ void FramePublisher::setScene(const SceneModel& model, std::shared_ptr<const Sur
   if (!mesh_) {  // a scene without vessels: clear what a previous scene showed
     auto clear = boost::make_shared<visualization_msgs::Marker>();
     clear->header.frame_id = frame_id_;
-    clear->header.stamp = epoch;
+    clear->header.stamp = epoch_;
     clear->ns = "vessels";
     clear->action = visualization_msgs::Marker::DELETE;
     vessels_msg_ = clear;  // also to new subscribers: every scene says what its vessels are
@@ -85,7 +91,15 @@ void FramePublisher::setScene(const SceneModel& model, std::shared_ptr<const Sur
 void FramePublisher::publish(const FrameSnapshot& f, const LoopTiming& timing, int driven) {
   std_msgs::Header header;
   header.frame_id = frame_id_;
-  header.stamp = epoch_ + ros::Duration(f.time);
+  header.stamp = clockAt(f.time);
+  if (header.stamp > last_clock_) {
+    last_clock_ = header.stamp;
+    if (clock_pub_) {
+      rosgraph_msgs::Clock clock;
+      clock.clock = header.stamp;
+      clock_pub_.publish(clock);
+    }
+  }
   stats_pub_.publish(toStepStatsMsg(f, timing, header));
   contacts_pub_.publish(toContactArrayMsg(f, header));
   states_pub_.publish(toDeviceStatusMsg(f, driven, header));
@@ -160,7 +174,7 @@ void FramePublisher::publishDiagnostics(const FrameSnapshot& f, const LoopTiming
   s.values.push_back(keyValue("simulated time [s]", f.time));
   s.values.push_back(keyValue("contacts", f.stats.contacts));
   diagnostic_msgs::DiagnosticArray array;
-  array.header.stamp = ros::Time::now();
+  array.header.stamp = last_clock_;
   array.status.push_back(s);
   diagnostics_pub_.publish(array);
 }

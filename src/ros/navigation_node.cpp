@@ -56,6 +56,9 @@ NavigationNode::Parameters NavigationNode::readParameters(const ros::NodeHandle&
   readParam(nh, "vessel_mesh_rate", &p.vessel_mesh_rate_hz, &problems, "a number [Hz]");
   readParam(nh, "force_scale", &p.markers.force_scale, &problems, "a number [m/N]");
   readParam(nh, "plane_size", &p.markers.plane_size, &problems, "a length [m]");
+  readParam(nh, "publish_clock", &p.publish_clock, &problems, "true or false");
+  readParam(nh, "scene_folders", &p.scene_folders, &problems, "a list of folder paths");
+  readParam(nh, "allow_any_scene_path", &p.allow_any_scene_path, &problems, "true or false");
   if (p.scene.empty()) problems.push_back("~scene must not be empty");
   if (!(p.rate_hz > 0.0 && p.rate_hz <= 1000.0))
     problems.push_back("~rate must lie in (0, 1000] Hz");
@@ -83,7 +86,8 @@ NavigationNode::NavigationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
       private_nh_(private_nh),
       params_(readParameters(private_nh)),
       loop_(params_.rate_hz),
-      publisher_(nh, params_.frame_id, params_.markers, 1.0 / params_.vessel_mesh_rate_hz) {
+      publisher_(nh, params_.frame_id, params_.markers, 1.0 / params_.vessel_mesh_rate_hz,
+                 params_.publish_clock) {
   if (!params_.joystick.empty()) {
     try {
       joystick_ = loadJoystickMapping(params_.joystick);
@@ -94,7 +98,8 @@ NavigationNode::NavigationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<endovascular_sim::SolverConfig>>(
       reconfigure_mutex_, private_nh_);
   std::string message;
-  if (!loadSceneNamed(params_.scene, &message)) throw std::runtime_error(message);
+  if (!loadSceneNamed(params_.scene, &message, /*from_request=*/false))
+    throw std::runtime_error(message);
   reconfigure_->setCallback(
       [this](endovascular_sim::SolverConfig& c, uint32_t level) { onReconfigure(c, level); });
 
@@ -103,7 +108,17 @@ NavigationNode::NavigationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
     joy_sub_ = nh_.subscribe("joy", 10, &NavigationNode::onJoy, this);
     ROS_INFO_STREAM("joystick mapping " << params_.joystick);
   }
-  load_srv_ = nh_.advertiseService("load_scene", &NavigationNode::onLoadScene, this);
+  // load_scene on its own queue and thread: building a scene (a vessel mesh
+  // of 100k triangles takes a quarter of a second) never stalls publishing.
+  ros::AdvertiseServiceOptions load_options =
+      ros::AdvertiseServiceOptions::create<endovascular_sim::LoadScene>(
+          "load_scene",
+          [this](endovascular_sim::LoadScene::Request& req,
+                 endovascular_sim::LoadScene::Response& res) { return onLoadScene(req, res); },
+          ros::VoidConstPtr(), &load_queue_);
+  load_srv_ = nh_.advertiseService(load_options);
+  load_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &load_queue_);
+  load_spinner_->start();
   list_srv_ = nh_.advertiseService("list_scenes", &NavigationNode::onListScenes, this);
   reset_srv_ = nh_.advertiseService("reset", &NavigationNode::onReset, this);
   pause_srv_ = nh_.advertiseService("pause", &NavigationNode::onPause, this);
@@ -115,21 +130,59 @@ NavigationNode::NavigationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   loop_.start();
 }
 
-bool NavigationNode::loadSceneNamed(const std::string& scene, std::string* message) {
+std::string NavigationNode::sceneFileFor(const std::string& request,
+                                         const std::vector<std::string>& folders, bool any) {
+  namespace fs = std::filesystem;
+  if (request.empty()) throw LoadError("", 0, "scene", "the scene name is empty");
+  const fs::path shipped = fs::path(configDirectory()) / "scenes";
+  if (request.find('/') == std::string::npos && !fs::path(request).has_extension())
+    return resolveScenePath(request);  // a shipped scene's name
+  fs::path path(request);
+  if (path.is_relative()) path = shipped / path;
+  std::error_code ec;
+  const fs::path real = fs::weakly_canonical(path, ec);
+  if (ec) throw LoadError(request, 0, "scene", "cannot resolve the path");
+  auto within = [&](const fs::path& folder) {
+    std::error_code e;
+    const fs::path base = fs::weakly_canonical(folder, e);
+    if (e) return false;
+    const auto rel = real.lexically_relative(base);
+    return !rel.empty() && *rel.begin() != "..";
+  };
+  bool allowed = any || within(shipped);
+  for (const std::string& f : folders) allowed = allowed || within(f);
+  if (!allowed) {
+    std::string list = shipped.string();
+    for (const std::string& f : folders) list += ", " + f;
+    throw LoadError(request, 0, "scene",
+                    "outside the scene folders (" + list +
+                        "): add its folder to ~scene_folders, or set ~allow_any_scene_path");
+  }
+  return real.string();
+}
+
+bool NavigationNode::loadSceneNamed(const std::string& scene, std::string* message,
+                                    bool from_request) {
   std::shared_ptr<const SceneModel> model;
+  std::shared_ptr<const SurfaceMesh> mesh;
   try {
-    model = std::make_shared<const SceneModel>(loadScene(scene));
-  } catch (const LoadError& e) {
+    const std::string file =
+        from_request ? sceneFileFor(scene, params_.scene_folders, params_.allow_any_scene_path)
+                     : resolveScenePath(scene);
+    model = std::make_shared<const SceneModel>(loadScene(file));
+    if (model->vessels && params_.vessel_mesh_spacing > 0.0)
+      mesh = std::make_shared<const SurfaceMesh>(
+          meshVesselSurface(*model->vessels, params_.vessel_mesh_spacing));
+  } catch (const std::exception& e) {  // LoadError, or a scene too large to build
     *message = std::string("cannot load scene: ") + e.what();
     ROS_ERROR_STREAM(*message);
     return false;  // the current scene keeps running
   }
-  std::shared_ptr<const SurfaceMesh> mesh;
-  if (model->vessels && params_.vessel_mesh_spacing > 0.0)
-    mesh = std::make_shared<const SurfaceMesh>(
-        meshVesselSurface(*model->vessels, params_.vessel_mesh_spacing));
+  // The swap: the loop takes the new scene between two steps, the publisher
+  // between two frames.
+  std::lock_guard<std::mutex> lock(publisher_mutex_);
   loop_.setScene(model, params_.use_script);
-  publisher_.setScene(*model, mesh, ros::Time::now());
+  publisher_.setScene(*model, mesh);
   joystick_state_ = JoystickState{};
   showContactOptions(model->contact);
   std::ostringstream m;
@@ -144,8 +197,12 @@ bool NavigationNode::loadSceneNamed(const std::string& scene, std::string* messa
 }
 
 void NavigationNode::onPublishTimer(const ros::WallTimerEvent&) {
-  publisher_.publish(loop_.snapshot(), loop_.timing(), joystick_state_.device);
+  {
+    std::lock_guard<std::mutex> lock(publisher_mutex_);
+    publisher_.publish(loop_.snapshot(), loop_.timing(), joystick_state_.device);
+  }
   ++frames_this_second_;
+  for (const std::string& notice : loop_.takeNotices()) ROS_WARN_STREAM(notice);
 }
 
 void NavigationNode::onProgressTimer(const ros::WallTimerEvent&) {
@@ -155,7 +212,19 @@ void NavigationNode::onProgressTimer(const ros::WallTimerEvent&) {
   last_publish_ = now;
   const FrameSnapshot f = loop_.snapshot();
   const LoopTiming timing = loop_.timing();
-  publisher_.publishDiagnostics(f, timing, publish_rate_hz_, loop_.lastError());
+  {
+    std::lock_guard<std::mutex> lock(publisher_mutex_);
+    publisher_.publishDiagnostics(f, timing, publish_rate_hz_, loop_.lastError());
+  }
+  const std::string error = loop_.lastError();
+  if (!error.empty()) ROS_WARN_STREAM_THROTTLE(5.0, "simulation: " << error);
+  slow_seconds_ = !f.paused && timing.real_time_factor < 1.0 ? slow_seconds_ + 1 : 0;
+  if (slow_seconds_ >= 3)
+    ROS_WARN_STREAM_THROTTLE(
+        10.0, "scene '" << f.model->name << "' runs at " << std::setprecision(2)
+                        << timing.real_time_factor
+                        << "x real time: stamps and /clock follow the simulation (use_sim_time "
+                           "nodes keep up); a coarser scene or lower ~rate lightens it");
   if (!params_.progress || f.devices.empty()) return;
   std::ostringstream line;
   line << std::fixed << std::setprecision(2) << "t=" << f.time << " s";
@@ -198,7 +267,11 @@ void NavigationNode::onCommand(const endovascular_sim::DeviceCommand& msg) {
 void NavigationNode::onJoy(const sensor_msgs::Joy& msg) {
   const auto model = loop_.model();
   const int n = static_cast<int>(model->devices.size());
-  const JoystickOutcome out = mapJoystick(joystick_, msg.axes, msg.buttons, n, &joystick_state_);
+  JoystickOutcome out;
+  {
+    std::lock_guard<std::mutex> lock(publisher_mutex_);  // (a scene swap resets the state)
+    out = mapJoystick(joystick_, msg.axes, msg.buttons, n, &joystick_state_);
+  }
   if (!out.problem.empty()) {
     ROS_WARN_STREAM_THROTTLE(5.0, "joy message ignored: " << out.problem);
     return;
@@ -214,7 +287,8 @@ void NavigationNode::onJoy(const sensor_msgs::Joy& msg) {
 
 bool NavigationNode::onLoadScene(endovascular_sim::LoadScene::Request& req,
                                  endovascular_sim::LoadScene::Response& res) {
-  res.success = loadSceneNamed(req.scene, &res.message);
+  std::lock_guard<std::mutex> one_at_a_time(load_mutex_);
+  res.success = loadSceneNamed(req.scene, &res.message, /*from_request=*/true);
   return true;
 }
 
@@ -226,7 +300,10 @@ bool NavigationNode::onListScenes(endovascular_sim::ListScenes::Request&,
 
 bool NavigationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
   loop_.reset();
-  publisher_.setEpoch(ros::Time::now());
+  {
+    std::lock_guard<std::mutex> lock(publisher_mutex_);
+    publisher_.restartClock();
+  }
   joystick_state_.moving = false;
   res.success = true;
   res.message = "scene '" + loop_.model()->name + "' back to its initial state";

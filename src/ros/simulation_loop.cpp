@@ -1,7 +1,9 @@
 #include "endovascular_sim/ros/simulation_loop.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 
 namespace evsim {
 namespace {
@@ -41,6 +43,7 @@ void SimulationLoop::setScene(std::shared_ptr<const SceneModel> model, bool use_
   use_script_ = use_script;
   data_ = makeData(*model_);
   if (!use_script_) data_.next_script_entry = model_->script.size();
+  rejections_ = 0;
   {
     std::lock_guard<std::mutex> status(status_mutex_);
     timing_ = LoopTiming{};
@@ -55,6 +58,7 @@ void SimulationLoop::reset() {
   if (!model_) return;
   data_ = makeData(*model_);
   if (!use_script_) data_.next_script_entry = model_->script.size();
+  rejections_ = 0;
   {
     std::lock_guard<std::mutex> status(status_mutex_);
     last_error_.clear();
@@ -132,6 +136,64 @@ std::string SimulationLoop::lastError() const {
   return last_error_;
 }
 
+std::vector<std::string> SimulationLoop::takeNotices() {
+  std::lock_guard<std::mutex> status(status_mutex_);
+  std::vector<std::string> out;
+  out.swap(notices_);
+  return out;
+}
+
+void SimulationLoop::notice(const std::string& text) {
+  std::lock_guard<std::mutex> status(status_mutex_);
+  if (notices_.size() < 100) notices_.push_back(text);  // nobody reading: keep the first
+}
+
+SceneModel SimulationLoop::recoveryModel(const SceneModel& model) {
+  SceneModel m = model;
+  m.contact.lcp = LcpOptions{};  // the status method, automatic pivot limit, default tolerance
+  m.contact.max_activation_loops = std::max(m.contact.max_activation_loops, 40);
+  m.contact.max_subdivisions = std::max(m.contact.max_subdivisions, 8);
+  m.effects.subdivision = true;
+  return m;
+}
+
+bool SimulationLoop::onRejectedStep() {
+  ++rejections_;
+  const std::string why = data_.last_error;
+  {
+    std::lock_guard<std::mutex> status(status_mutex_);
+    last_error_ = why;  // the state is kept; tried again next frame
+  }
+  std::ostringstream at;
+  at << "step at t = " << data_.time << " s rejected (" << rejections_ << "x): " << why;
+  if (rejections_ < kRejectionsBeforeRecovery) {
+    notice(at.str() + "; the state is kept and the step tried again");
+    return false;
+  }
+  const SceneModel recovery = recoveryModel(*model_);
+  if (step(recovery, &data_) == StepStatus::kOk) {
+    rejections_ = 0;
+    notice(at.str() + "; recovered: this step solved with the status method, " +
+           std::to_string(recovery.contact.max_activation_loops) + " activation loops and " +
+           std::to_string(recovery.contact.max_subdivisions) +
+           " halvings; the scene's options apply again from the next step");
+    return true;
+  }
+  paused_ = true;
+  rejections_ = 0;
+  const std::string error = "paused at t = " + std::to_string(data_.time) +
+                            " s: the step cannot be solved even with the recovery options (" +
+                            data_.last_error +
+                            "); reset the scene, load another, or change the solver options "
+                            "and unpause";
+  {
+    std::lock_guard<std::mutex> status(status_mutex_);
+    last_error_ = error;
+  }
+  notice(error);
+  return false;
+}
+
 double SimulationLoop::runFrame() {
   const int steps = timing().steps_per_frame;
   double simulated = 0.0;
@@ -142,12 +204,17 @@ double SimulationLoop::runFrame() {
     while (waiters_ > 0) std::this_thread::yield();
     std::lock_guard<std::mutex> lock(mutex_);
     if (paused_ || !model_) break;
-    const StepStatus status = step(*model_, &data_);
-    if (status != StepStatus::kOk) {
-      std::lock_guard<std::mutex> status_lock(status_mutex_);
-      last_error_ = data_.last_error;  // the state is kept; try again next frame
+    if (step(*model_, &data_) != StepStatus::kOk && !onRejectedStep()) {
+      shareState();  // (paused, or the same state)
       break;
     }
+    rejections_ = 0;
+    {
+      std::lock_guard<std::mutex> status(status_mutex_);
+      last_error_.clear();  // steps succeed again
+      for (std::string& n : data_.notices) notices_.push_back(std::move(n));
+    }
+    data_.notices.clear();
     simulated += model_->time_step;
     shareState();
   }

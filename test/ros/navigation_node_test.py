@@ -329,6 +329,70 @@ class NavigationNodeTest(unittest.TestCase):
         self.assertTrue(self.pause(False).success)
         self.wait_for(lambda: self.stats.sim_time > t0 + 0.1, 'time to run again')
 
+    def test_scene_paths_outside_the_scene_folders_are_refused(self):
+        for request, words in (('../../etc/passwd', 'outside the scene folders'),
+                               ('/etc/passwd', 'outside the scene folders'),
+                               ('', 'empty')):
+            res = self.load_scene(request)
+            self.assertFalse(res.success, request)
+            self.assertIn(words, res.message)
+        # a relative path is taken from config/scenes/
+        res = self.load_scene('aneurysm.yaml')
+        self.assertTrue(res.success, res.message)
+        self.wait_for(lambda: self.stats.scene == 'aneurysm', 'aneurysm stats')
+
+    def test_malformed_scene_is_refused_and_the_scene_keeps_running(self):
+        folder = os.path.join(CONFIG, 'scenes')
+        bad = os.path.join(folder, '_rostest_bad.yaml')
+        try:
+            with open(bad, 'w') as f:
+                f.write('name: bad\ntime_step: 0.001\ndevices: 7\n')
+            res = self.load_scene('_rostest_bad.yaml')
+        finally:
+            os.remove(bad)
+        self.assertFalse(res.success)
+        self.assertIn('devices', res.message)
+        t0 = self.sim_time()
+        self.wait_sim(0.2)
+        with self.lock:
+            self.assertEqual(self.stats.scene, 'free_insertion')
+            self.assertGreater(self.stats.sim_time, t0)
+
+    def test_clock_follows_the_simulation_and_stamps_follow_the_clock(self):
+        from rosgraph_msgs.msg import Clock
+        first = rospy.wait_for_message('/clock', Clock, timeout=10).clock
+        with self.lock:
+            stats = self.stats
+        self.wait_sim(0.5)
+        later = rospy.wait_for_message('/clock', Clock, timeout=10).clock
+        advanced = (later - first).to_sec()
+        with self.lock:
+            simulated = self.stats.sim_time - stats.sim_time
+            stamp_minus_time = self.stats.header.stamp.to_sec() - self.stats.sim_time
+        # the clock advanced by simulated time (give or take a frame or two),
+        # and every stamp is the clock at its simulated time
+        self.assertAlmostEqual(advanced, simulated, delta=0.2)
+        self.assertAlmostEqual(stamp_minus_time,
+                               stats.header.stamp.to_sec() - stats.sim_time, delta=1e-6)
+        # a reset starts simulated time again, the clock goes on forward
+        self.assertTrue(self.reset().success)
+        self.wait_for(lambda: self.stats.sim_time < 0.2, 'time to restart')
+        after = rospy.wait_for_message('/clock', Clock, timeout=10).clock
+        self.assertGreater(after.to_sec(), later.to_sec())
+
+    def test_out_of_range_rotation_target_is_refused(self):
+        self.command(DeviceCommand.POSITION, 0.03, 1e30)
+        self.wait_for(lambda: self.warnings_containing('1000 turns'), 'the rotation refusal')
+
+    def test_out_of_range_solver_options_are_refused_with_a_message(self):
+        import dynamic_reconfigure.client
+        client = dynamic_reconfigure.client.Client('navigation_node', timeout=30)
+        config = client.update_configuration({'lcp_tolerance': -1.0})
+        self.assertGreater(config['lcp_tolerance'], 0.0)  # what is in force
+        self.wait_for(lambda: self.warnings_containing('lcp tolerance must lie in'),
+                      'the solver option refusal')
+        client.close()
+
 
 if __name__ == '__main__':
     rostest.rosrun('endovascular_sim', 'navigation_node', NavigationNodeTest)

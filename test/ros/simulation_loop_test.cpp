@@ -124,5 +124,50 @@ TEST(LoopDetach, RefusedWhileInsideThenTheCoilIsCut) {
   loop.stop();
 }
 
+TEST(LoopRecovery, ARejectedStepIsToldRetriedAndRecovered) {
+  // One PGS sweep cannot solve the J-tip's first contact: every step with a
+  // contact is rejected. The loop says so, keeps the state, and after
+  // kRejectionsBeforeRecovery rejections solves that step with the status
+  // method; its error clears once steps succeed again.
+  auto model = std::make_shared<SceneModel>(loadScene("carotid_selective"));
+  model->contact.lcp.solver = LcpSolver::kPgs;
+  model->contact.lcp.max_iterations = 1;
+  SimulationLoop loop(100.0);
+  loop.setScene(model, /*use_script=*/true);
+  loop.start();
+  std::vector<std::string> told;
+  auto tell = [&](const std::string& words) {
+    for (const std::string& n : loop.takeNotices()) told.push_back(n);
+    for (const std::string& n : told)
+      if (n.find(words) != std::string::npos) return true;
+    return false;
+  };
+  ASSERT_TRUE(eventually([&] { return tell("recovered"); }, 120)) << [&] {
+    std::string all = loop.lastError();
+    for (const std::string& n : told) all += "\n" + n;
+    return all;
+  }();
+  EXPECT_TRUE(tell("rejected (1x)"));
+  EXPECT_TRUE(tell("iteration limit"));
+  EXPECT_TRUE(tell("use the status method"));
+  const double at = loop.snapshot().time;
+  ASSERT_TRUE(eventually([&] { return loop.snapshot().time > at + 0.05; }, 120));
+  EXPECT_FALSE(loop.snapshot().paused);
+  loop.stop();
+}
+
+TEST(LoopRecovery, TheRecoveryStepUsesTheExactSolverWithMoreRoom) {
+  SceneModel m = loadScene("carotid");
+  m.contact.lcp.solver = LcpSolver::kPgs;
+  m.contact.lcp.max_iterations = 1;
+  m.effects.subdivision = false;
+  const SceneModel r = SimulationLoop::recoveryModel(m);
+  EXPECT_EQ(r.contact.lcp.solver, LcpSolver::kStatusMethod);
+  EXPECT_EQ(r.contact.lcp.max_iterations, 0);  // automatic
+  EXPECT_GE(r.contact.max_activation_loops, 40);
+  EXPECT_GE(r.contact.max_subdivisions, 8);
+  EXPECT_TRUE(r.effects.subdivision);
+}
+
 }  // namespace
 }  // namespace evsim

@@ -6,6 +6,7 @@
 // device's material passes the access point node by node.
 #pragma once
 
+#include <cmath>
 #include <string>
 
 #include "endovascular_sim/core/types.h"
@@ -40,8 +41,12 @@ struct DriveCommand {
   double rotation{0.0};   // [rad/s] or target angle [rad]
 };
 
+/// Largest absolute rotation a position command may target [rad] (1000 turns).
+constexpr double kMaxRotationTarget = 2000.0 * M_PI;
+
 /// Why a command is refused (empty when it is valid): NaN, infinity, a speed
-/// beyond the device's limits, a target length outside [0, length].
+/// beyond the device's limits, a target length outside [0, length], a target
+/// rotation beyond kMaxRotationTarget.
 std::string validateDriveCommand(const DriveCommand& command, const DeviceModel& model);
 
 /// Advances inserted length and rotation angle over dt [s] toward the command,

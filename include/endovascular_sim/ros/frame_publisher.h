@@ -1,5 +1,10 @@
-// Everything the node publishes for a frame, stamped with simulated time
-// (the scene's start on the wall clock plus the simulated time):
+// Everything the node publishes for a frame, stamped with the simulation's
+// clock: the wall time at the node's start plus the simulated time, carried
+// on without a jump backwards across resets and scene switches. Like
+// Gazebo, the node publishes that clock on /clock (~publish_clock), so that
+// nodes with /use_sim_time (rviz in navigation_rviz.launch) follow the
+// simulation however far it falls behind real time:
+//   /clock                        rosgraph_msgs/Clock, every frame that advanced
 //   stats                         endovascular_sim/StepStats
 //   contacts                      endovascular_sim/ContactArray
 //   device_states                 endovascular_sim/DeviceStatusArray
@@ -27,13 +32,18 @@ namespace evsim {
 
 class FramePublisher {
  public:
+  /// publish_clock: send /clock (off when another simulator owns it).
   FramePublisher(ros::NodeHandle nh, std::string frame_id, MarkerStyle style,
-                 double vessel_mesh_period_s);
+                 double vessel_mesh_period_s, bool publish_clock);
 
-  /// A new scene: per-device topics, the vessel mesh (may be null).
-  void setScene(const SceneModel& model, std::shared_ptr<const SurfaceMesh> mesh, ros::Time epoch);
-  /// The wall time that simulated time 0 is stamped as (reset, new scene).
-  void setEpoch(ros::Time epoch) { epoch_ = epoch; }
+  /// A new scene: per-device topics, the vessel mesh (may be null); its
+  /// simulated time 0 is stamped just after the last stamp (restartClock).
+  void setScene(const SceneModel& model, std::shared_ptr<const SurfaceMesh> mesh);
+  /// Simulated time 0 (a reset) is stamped just after the last stamp: the
+  /// clock never runs backwards.
+  void restartClock();
+  /// The clock at simulated time t of the current scene.
+  ros::Time clockAt(double t) const { return epoch_ + ros::Duration(t); }
 
   void publish(const FrameSnapshot& frame, const LoopTiming& timing, int driven_device);
   /// One DiagnosticStatus for the loop: OK, WARN when frames overran or the
@@ -54,7 +64,8 @@ class FramePublisher {
   double vessel_mesh_period_s_;
   ros::Time epoch_;
   ros::Publisher stats_pub_, contacts_pub_, states_pub_, markers_pub_, vessels_pub_,
-      diagnostics_pub_;
+      diagnostics_pub_, clock_pub_;
+  ros::Time last_clock_;  // the last stamp sent
   std::vector<ros::Publisher> path_pubs_;
   std::vector<ros::Publisher> detached_path_pubs_;  // empty publisher: the device cannot detach
   tf2_ros::TransformBroadcaster tf_broadcaster_;

@@ -6,16 +6,26 @@
 //   with ~joystick set). Services: load_scene, list_scenes, reset
 //   (std_srvs/Trigger), pause (std_srvs/SetBool). Parameters: see
 //   NavigationNode::Parameters and the README.
+//
+// load_scene runs on a thread of its own (its own callback queue): a scene
+// is built there while the simulation and the publisher go on with the old
+// one, then swapped in. Scene paths: a name is a shipped scene, a relative
+// path is taken from the package's config/scenes/, an absolute path must
+// lie in config/scenes/ or a folder of ~scene_folders (unless
+// ~allow_any_scene_path).
 #pragma once
 
 #include <dynamic_reconfigure/server.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Joy.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 
 #include <memory>
+#include <mutex>
 #include <string>
+#include <vector>
 
 #include "endovascular_sim/DeviceCommand.h"
 #include "endovascular_sim/ListScenes.h"
@@ -30,16 +40,25 @@ namespace evsim {
 class NavigationNode {
  public:
   struct Parameters {
-    std::string scene{"carotid"};        // ~scene: shipped name or path
-    double rate_hz{25.0};                // ~rate: published frames per second [Hz]
-    std::string frame_id{"world"};       // ~frame_id
-    bool use_script{true};               // ~use_script: run the scene's scripted commands
-    std::string joystick;                // ~joystick: mapping file ("" = no joystick)
-    bool progress{true};                 // ~progress: a progress line per second
-    double vessel_mesh_spacing{0.0015};  // ~vessel_mesh_spacing [m]; 0 = no mesh
-    double vessel_mesh_rate_hz{2.0};     // ~vessel_mesh_rate: moving vessels [Hz]
-    MarkerStyle markers;                 // ~force_scale [m/N], ~plane_size [m]
+    std::string scene{"carotid"};            // ~scene: shipped name or path
+    double rate_hz{25.0};                    // ~rate: published frames per second [Hz]
+    std::string frame_id{"world"};           // ~frame_id
+    bool use_script{true};                   // ~use_script: run the scene's scripted commands
+    std::string joystick;                    // ~joystick: mapping file ("" = no joystick)
+    bool progress{true};                     // ~progress: a progress line per second
+    double vessel_mesh_spacing{0.0015};      // ~vessel_mesh_spacing [m]; 0 = no mesh
+    double vessel_mesh_rate_hz{2.0};         // ~vessel_mesh_rate: moving vessels [Hz]
+    MarkerStyle markers;                     // ~force_scale [m/N], ~plane_size [m]
+    bool publish_clock{true};                // ~publish_clock: /clock from the simulation
+    std::vector<std::string> scene_folders;  // ~scene_folders: more folders for load_scene
+    bool allow_any_scene_path{false};        // ~allow_any_scene_path
   };
+
+  /// The scene file a load_scene request names, or why it is refused
+  /// (name: shipped; relative path: from config/scenes/; absolute: within
+  /// config/scenes/ or one of `folders` unless `any`). Throws LoadError.
+  static std::string sceneFileFor(const std::string& request,
+                                  const std::vector<std::string>& folders, bool any);
 
   /// Reads the parameters (throws std::runtime_error naming every invalid
   /// one) and loads the scene (throws when it cannot be loaded).
@@ -48,7 +67,10 @@ class NavigationNode {
   static Parameters readParameters(const ros::NodeHandle& private_nh);
 
  private:
-  bool loadSceneNamed(const std::string& scene, std::string* message);
+  /// Builds a scene and swaps it in; false (message says why, the current
+  /// scene goes on) when it cannot be loaded. from_request: a load_scene
+  /// request, whose path must lie in the allowed folders.
+  bool loadSceneNamed(const std::string& scene, std::string* message, bool from_request);
   void onPublishTimer(const ros::WallTimerEvent& event);
   void onProgressTimer(const ros::WallTimerEvent& event);
   void onCommand(const endovascular_sim::DeviceCommand& msg);
@@ -70,6 +92,11 @@ class NavigationNode {
   JoystickState joystick_state_;
   ros::Subscriber command_sub_, joy_sub_;
   ros::ServiceServer load_srv_, list_srv_, reset_srv_, pause_srv_;
+  ros::CallbackQueue load_queue_;  // load_scene's own queue and thread
+  std::unique_ptr<ros::AsyncSpinner> load_spinner_;
+  std::mutex publisher_mutex_;  // publisher_ between the timers and a scene swap
+  std::mutex load_mutex_;       // one scene load at a time
+  int slow_seconds_{0};         // consecutive seconds below real time
   ros::WallTimer publish_timer_, progress_timer_;
   ros::WallTime last_publish_;
   double publish_rate_hz_{0.0};  // measured over the last second

@@ -5,6 +5,12 @@
 // period late is counted as an overrun and the schedule restarts from now
 // (no burst of catch-up frames). Everything here is safe to call from other
 // threads while the loop runs.
+//
+// A step that cannot be solved keeps the state and is tried again next
+// frame. After kRejectionsBeforeRecovery rejections of the same state the
+// loop applies its recovery for that one step (the status method, more
+// activation loops, halving on: recoveryOptions); if even that fails, it
+// pauses with an error. Each rejection and recovery is told in notices.
 #pragma once
 
 #include <atomic>
@@ -12,6 +18,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "endovascular_sim/ros/frame_snapshot.h"
 
@@ -45,8 +52,18 @@ class SimulationLoop {
   std::shared_ptr<const SceneModel> model() const;
   FrameSnapshot snapshot() const;
   LoopTiming timing() const;
-  /// Why the last rejected step was rejected ("" if none was).
+  /// Why the last rejected step was rejected ("" once a step succeeds again).
   std::string lastError() const;
+  /// What happened since the last call (rejections, recoveries, refused
+  /// script commands, drives stopped at their limits), oldest first.
+  std::vector<std::string> takeNotices();
+
+  /// Rejections of one state before the recovery step.
+  static constexpr int kRejectionsBeforeRecovery = 3;
+  /// The scene for the recovery step: the status method with its default
+  /// tolerance and pivot limit, at least 40 activation loops and 8 halvings,
+  /// the effect 'subdivision' on.
+  static SceneModel recoveryModel(const SceneModel& model);
 
  private:
   void run();
@@ -59,6 +76,10 @@ class SimulationLoop {
 
   /// Copies what the publisher shows into latest_ (mutex_ held).
   void shareState();
+  /// A step was rejected (mutex_ held): counts it, recovers or pauses.
+  /// Returns true when the recovery step succeeded.
+  bool onRejectedStep();
+  void notice(const std::string& text);  // (status_mutex_ not held)
 
   const double period_s_;
   mutable std::mutex mutex_;  // the simulation: held for a whole step
@@ -71,6 +92,8 @@ class SimulationLoop {
   FrameSnapshot latest_;             // the state after the last step
   LoopTiming timing_;
   std::string last_error_;
+  std::vector<std::string> notices_;
+  int rejections_{0};  // of the current state (mutex_)
 
   mutable std::atomic<int> waiters_{0};
   std::atomic<bool> running_{false};

@@ -105,7 +105,7 @@ struct SimData {
   StepStats stats;
   EffectCounters effect_calls;
   std::string last_error;            // why the last failed step was rejected
-  std::vector<std::string> notices;  // scripted commands refused (runners print and clear them)
+  std::vector<std::string> notices;  // scripted commands refused, drives at a limit (runners print and clear them)
 };
 
 /// Throws LoadError when the spec is beyond the limits its scene states

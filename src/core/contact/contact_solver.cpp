@@ -728,7 +728,10 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     st->lcp_ms += msSince(t0);
     st->contacts = c;
     if (pb.record) *pb.record = {MatX(W), q, lambda, mu};
-    if (status != LcpStatus::kSolved) return false;  // the caller subdivides
+    if (status != LcpStatus::kSolved) {  // the caller subdivides
+      st->lcp_status = status;
+      return false;
+    }
 
     // --- Correction x = x_f + A^-1 H^T lambda --------------------------------
     t0 = Clock::now();

@@ -61,6 +61,9 @@ std::string validateDriveCommand(const DriveCommand& command, const DeviceModel&
   } else if (command.insertion < 0.0 || command.insertion > model.length) {
     why << "target inserted length " << command.insertion << " m is outside [0, " << model.length
         << "] m for device '" << model.name << "'";
+  } else if (std::abs(command.rotation) > kMaxRotationTarget) {
+    why << "target rotation " << command.rotation << " rad is beyond +-" << kMaxRotationTarget
+        << " rad (1000 turns) for device '" << model.name << "'";
   }
   return why.str();
 }

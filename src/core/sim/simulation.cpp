@@ -26,6 +26,25 @@ void applyScript(const SceneModel& model, SimData* data) {
   }
 }
 
+/// Why the contacts of a (sub-)step were not solved, and the knob that helps.
+std::string unsolvedContacts(const ContactOptions& o, const ContactStats& cs) {
+  std::ostringstream why;
+  if (cs.lcp_status != LcpStatus::kSolved) {
+    why << "the LCP solver '" << lcpSolverName(o.lcp.solver) << "' "
+        << (cs.lcp_status == LcpStatus::kIterationLimit ? "reached its iteration limit" : "failed")
+        << " on " << cs.contacts << " contacts (residual " << cs.lcp_residual
+        << " m) in activation loop " << cs.activation_loops
+        << ": use the status method (solver: status) or raise lcp_max_iterations";
+  } else {
+    why << "contacts not solved in " << cs.activation_loops << " activation loops: the deepest "
+        << "point is " << cs.max_penetration_m * 1e6 << " um beyond the wall (tolerance "
+        << o.penetration_tolerance * 1e6 << " um) with " << cs.contacts
+        << " contacts: raise max_activation_loops, or max_subdivisions with the effect "
+           "'subdivision'";
+  }
+  return why.str();
+}
+
 void addStats(const FreeMotionTimes& t, StepStats* s) {
   s->assembly_ms += t.assembly_ms;
   s->factorization_ms += t.factorization_ms;
@@ -100,10 +119,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     data->effect_calls.coaxial += cs.lumen_passes;
     if (!solved) {
       data->contacts.swap(previous);  // a subdivided step starts from them again
-      data->last_error = "contacts not solved after " +
-                         std::to_string(model.contact.max_activation_loops) +
-                         " activation loops (deepest point " +
-                         std::to_string(cs.max_penetration_m * 1e3) + " mm beyond the wall)";
+      data->last_error = unsolvedContacts(model.contact, cs);
       return StepStatus::kContactsUnsolved;
     }
     addResults(cs, &data->stats);
@@ -146,6 +162,24 @@ StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth)
     }
   }
   return StepStatus::kOk;
+}
+
+/// A drive that reached the end of its travel in the last step: its
+/// velocity command goes on, clamped (told once, when the end is reached).
+void noteDriveLimits(const SceneModel& model, const std::vector<double>& before, SimData* data) {
+  for (size_t i = 0; i < before.size(); ++i) {
+    const DriveCommand& c = data->commands[i];
+    if (c.mode != DriveCommand::Mode::kVelocity || c.insertion == 0.0) continue;
+    const double now = data->devices[i].inserted_length, full = model.devices[i].length;
+    const bool out = c.insertion < 0.0 && now <= 0.0 && before[i] > 0.0;
+    const bool in = c.insertion > 0.0 && now >= full && before[i] < full;
+    if (!out && !in) continue;
+    std::ostringstream m;
+    m << "t = " << data->time << " s: device '" << model.devices[i].name << "' "
+      << (out ? "fully retracted (inserted length 0)" : "fully inserted")
+      << ": its drive stops there while the command of " << c.insertion << " m/s stands";
+    data->notices.push_back(m.str());
+  }
 }
 
 }  // namespace
@@ -256,10 +290,13 @@ StepStatus step(const SceneModel& model, SimData* data) {
   data->stats = StepStats{};
   applyScript(model, data);
   const double t_end = data->time + model.time_step;
+  std::vector<double> inserted(data->devices.size());
+  for (size_t i = 0; i < inserted.size(); ++i) inserted[i] = data->devices[i].inserted_length;
   const StepStatus status = advance(model, data, model.time_step, 0);
   if (status == StepStatus::kOk) {
     data->time = t_end;  // no drift from summed halves
     ++data->step;
+    noteDriveLimits(model, inserted, data);
   }
   data->stats.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   return status;
