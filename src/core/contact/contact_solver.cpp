@@ -460,8 +460,13 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   // tunnels.
   std::vector<size_t> counts(nd);
   for (size_t d = 0; d < nd; ++d) counts[d] = samples[d].size();
-  const bool keep_balls = o.interior_balls && pb.interior && pb.motion.empty();
-  SampleFields field(pb.surface, counts, keep_balls ? pb.interior : nullptr);
+  // The certified balls are kept across steps while the surface is at rest;
+  // a moving surface stands still within a step (one snapshot, at the
+  // step's end), so its balls serve this step's loops only.
+  std::vector<std::vector<InteriorBall>> step_balls;
+  std::vector<std::vector<InteriorBall>>* balls = nullptr;
+  if (o.interior_balls) balls = pb.interior && pb.motion.empty() ? pb.interior : &step_balls;
+  SampleFields field(pb.surface, counts, balls);
   // With wall contacts kept from the last step, the paper's detection runs
   // on the path to the first loop's iterate instead of the free motion's:
   // a device held by its contacts swings millimetres away from them in the

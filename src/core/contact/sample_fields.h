@@ -3,7 +3,8 @@
 // contact solver, contact_solver.cpp). A point whose motion stays in its
 // certified interior ball (geometry/interior_ball.h) is inside throughout:
 // no first root, no violation, no tunnel, and no evaluation. The balls are
-// kept across steps (SimData) while the surface is at rest.
+// kept across steps (SimData) while the surface is at rest, for one step's
+// loops when it moves.
 #pragma once
 
 #include <vector>
@@ -20,9 +21,9 @@ constexpr double kMaxBallRadius = 2e-3;
 
 class SampleFields {
  public:
-  /// counts: sample points per device. balls: the balls kept across steps
-  /// (resized to the counts), or null where none may be kept (a moving
-  /// surface, or the option off).
+  /// counts: sample points per device. balls: where the balls are kept
+  /// (resized to the counts), or null (the option off: every point is
+  /// evaluated).
   SampleFields(const ImplicitSurface* surface, const std::vector<size_t>& counts,
                std::vector<std::vector<InteriorBall>>* balls);
 
