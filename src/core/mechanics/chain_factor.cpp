@@ -2,9 +2,50 @@
 // motion's factor of A, and of A + C in the contact solver.
 #include "endovascular_sim/mechanics/chain_factor.h"
 
-#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
 
 namespace evsim {
+
+namespace {
+
+/// The inverse of a symmetric positive definite 6x6 block by its Cholesky
+/// factor L (A = L L^T, inverse = L^-T L^-1), written out for the fixed
+/// size: twice as fast as Eigen's LLT solve with the identity, whose
+/// triangular solves take the general-size path. False when A is not
+/// positive definite.
+bool spdInverse(const Mat6& A, Mat6* inverse) {
+  double L[6][6] = {};
+  for (int j = 0; j < 6; ++j) {
+    double d = A(j, j);
+    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+    if (!(d > 0.0)) return false;
+    L[j][j] = std::sqrt(d);
+    for (int i = j + 1; i < 6; ++i) {
+      double s = A(i, j);
+      for (int k = 0; k < j; ++k) s -= L[i][k] * L[j][k];
+      L[i][j] = s / L[j][j];
+    }
+  }
+  double M[6][6] = {};  // L^-1, lower triangular
+  for (int j = 0; j < 6; ++j) {
+    M[j][j] = 1.0 / L[j][j];
+    for (int i = j + 1; i < 6; ++i) {
+      double s = 0.0;
+      for (int k = j; k < i; ++k) s -= L[i][k] * M[k][j];
+      M[i][j] = s / L[i][i];
+    }
+  }
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j <= i; ++j) {
+      double s = 0.0;
+      for (int k = i; k < 6; ++k) s += M[k][i] * M[k][j];
+      (*inverse)(i, j) = (*inverse)(j, i) = s;
+    }
+  return true;
+}
+
+}  // namespace
 
 bool ChainFactor::factorize(const ChainMatrix& A, int first) {
   const int n = std::max(0, A.numBlocks() - first);
@@ -13,12 +54,10 @@ bool ChainFactor::factorize(const ChainMatrix& A, int first) {
   if (n == 0) return true;
   Mat6 D = A.diag[first];
   for (int i = 0; i < n; ++i) {
-    const Eigen::LLT<Mat6> llt(D);
-    if (llt.info() != Eigen::Success) return false;
-    d_inv_[i] = llt.solve(Mat6::Identity());
+    if (!spdInverse(D, &d_inv_[i])) return false;
     if (i + 1 == n) break;
     const Mat6& upper = A.upper[first + i];  // A_{i,i+1}
-    transfer_[i] = -llt.solve(upper);
+    transfer_[i].noalias() = -d_inv_[i] * upper;
     D = A.diag[first + i + 1];
     D.noalias() += upper.transpose() * transfer_[i];
   }

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Regenerates the figures of docs/performance.md: every shipped navigation
+# and stability scene stepped over its whole scripted procedure by
+# `evsim bench` (one core, per phase: free, contact, inserted), then the ROS
+# node itself on the navigation scenes (scripts/node_benchmark.py). Long (a
+# few minutes), not part of CI; run it alone on the machine.
+# Usage: scripts/performance_tables.sh [OUT_DIR]   (default: build/performance)
+set -euo pipefail
+repo=$(cd "$(dirname "$0")/.." && pwd)
+out=${1:-$repo/build/performance}
+mkdir -p "$out"
+export PATH="/usr/bin:$PATH"
+evsim=$repo/build/ws/devel/lib/endovascular_sim/evsim
+for scene in carotid carotid_selective carotid_catheter network aneurysm aneurysm_coiling \
+             dead_end tortuous aneurysm_packed large_step; do
+  echo "== evsim bench $scene"
+  "$evsim" bench "$scene" | tee "$out/bench_$scene.txt" || true  # a failed step is reported
+done
+echo "== evsim bench aneurysm_packed --warmup 11000 --steps 3000 --min-rows 300"
+"$evsim" bench aneurysm_packed --warmup 11000 --steps 3000 --min-rows 300 \
+  | tee "$out/bench_aneurysm_packed_300.txt"
+set +u; source "$repo/build/ws/devel/setup.bash"; set -u
+echo "== scripts/node_benchmark.py"
+/usr/bin/python3 "$repo/scripts/node_benchmark.py" | tee "$out/node_benchmark.txt"
