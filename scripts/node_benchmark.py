@@ -59,8 +59,12 @@ def run(scene):
                                'scene:=' + scene], env=env, stdout=subprocess.DEVNULL,
                               stderr=subprocess.DEVNULL)
     try:
-        return subprocess.call([sys.executable, __file__, '--measure', scene,
-                                str(duration_of(scene))], env=env, stderr=subprocess.DEVNULL)
+        child = subprocess.run([sys.executable, __file__, '--measure', scene,
+                                str(duration_of(scene))], env=env, capture_output=True, text=True)
+        for line in child.stdout.splitlines():  # (rospy's waits for the master left out)
+            if line.startswith(scene):
+                print(line, flush=True)
+        return child.returncode
     finally:
         launch.terminate()
         launch.wait(timeout=30)
