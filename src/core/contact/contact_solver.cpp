@@ -780,7 +780,12 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
         const SamplePoint& s = samples[d][k];
         if (!takesPart(pb, d, s)) continue;
         const Vec3 p = samplePosition(devices[d], x[d], s);
-        if (field.endInside(d, k, p, s.radius, pb.motion)) continue;
+        double depth_bound = 0.0;
+        if (field.endWithinTolerance(d, k, p, s.radius, pb.motion, o.penetration_tolerance,
+                                     &depth_bound)) {
+          deepest = std::max(deepest, depth_bound);
+          continue;
+        }
         const FieldSample& g = field.end(d, k, p, s.radius, pb.motion);
         deepest = std::max(deepest, depthOf(g));
         if (depthOf(g) <= o.penetration_tolerance) continue;

@@ -260,8 +260,11 @@ LcpStatus pgs(const MatXView& W, const VecX& q, const LcpOptions& o, VecX* z, Lc
 }
 
 /// Lemke's method on the tableau [I, -W, -d | q] (w - W z - d z0 = q).
-/// Natural-map residual beyond which Lemke's answer counts as failed.
-constexpr double kLemkeResidualLimit = 1e-9;
+/// Natural-map residual (relative to |q|) beyond which Lemke's answer
+/// counts as failed. A right support leaves about cond(W) times the machine
+/// epsilon: 2e-9 on a wire lying on a floor (cond 1e9, every gap equal); a
+/// wrong one, after hundreds of pivots' round-off, 0.1-1.
+constexpr double kLemkeResidualLimit = 1e-6;
 
 LcpStatus lemke(const MatXView& W, const VecX& q, const LcpOptions& o, VecX* z, LcpStats* st) {
   const int c = static_cast<int>(q.size());

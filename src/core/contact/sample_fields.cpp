@@ -12,6 +12,7 @@ SampleFields::SampleFields(const ImplicitSurface* surface, const std::vector<siz
   start_ball_.resize(nd);
   start_.resize(nd);
   end_.resize(nd);
+  start_at_.resize(nd);
   end_at_.resize(nd);
   start_known_.resize(nd);
   end_known_.resize(nd);
@@ -20,6 +21,7 @@ SampleFields::SampleFields(const ImplicitSurface* surface, const std::vector<siz
     start_ball_[d].assign(counts[d], InteriorBall{});
     start_[d].resize(counts[d]);
     end_[d].resize(counts[d]);
+    start_at_[d].resize(counts[d]);
     end_at_[d].resize(counts[d]);
     start_known_[d].assign(counts[d], 0);
     end_known_[d].assign(counts[d], 0);
@@ -47,9 +49,28 @@ bool SampleFields::startInside(int d, int k, const Vec3& p0, const Vec3& p1, dou
   return start_ball_[d][k].contains(p1);
 }
 
-bool SampleFields::endInside(int d, int k, const Vec3& p, double radius,
-                             const MotionSnapshot& motion) {
+bool SampleFields::endWithinTolerance(int d, int k, const Vec3& p, double radius,
+                                      const MotionSnapshot& motion, double tolerance,
+                                      double* depth_bound) {
+  *depth_bound = 0.0;
   if (balls_ && (*balls_)[d][k].contains(p)) return true;
+  const bool have_end = end_known_[d][k] != 0;
+  if (have_end || start_known_[d][k]) {  // the field at the point's last place this step
+    const FieldSample& last = have_end ? end_[d][k] : start_[d][k];
+    const Vec3& at = have_end ? end_at_[d][k] : start_at_[d][k];
+    const Vec3 step = p - at;
+    const double length = step.norm();
+    if (length > 0.0) {
+      const double H = surface_->hessianBound(at, p, radius);
+      const double g = last.value + last.gradient.dot(step) - 0.5 * H * length * length;
+      const double slope = last.gradient.norm() - H * length;
+      if (g >= 0.0) return true;
+      if (slope > 0.0 && -g <= tolerance * slope) {
+        *depth_bound = -g / slope;
+        return true;
+      }
+    }
+  }
   const FieldSample& g = end(d, k, p, radius, motion);
   if (balls_ && g.value > 0.0) recentre(d, k, p, g, radius);
   return false;
@@ -65,6 +86,7 @@ const FieldSample& SampleFields::start(int d, int k, const Vec3& p0, double radi
                                        const MotionSnapshot& motion) {
   if (!start_known_[d][k]) {
     start_[d][k] = surface_->evaluate(p0, radius, motion);
+    start_at_[d][k] = p0;
     start_known_[d][k] = 1;
     ++evaluations_;
   }

@@ -31,9 +31,15 @@ class SampleFields {
   /// its field at p0 is evaluated (and its ball re-centred there) and false.
   bool startInside(int d, int k, const Vec3& p0, const Vec3& p1, double radius,
                    const MotionSnapshot& motion);
-  /// True when p (the loop's x) is certified inside; else its field at p is
-  /// evaluated (and its ball re-centred there when inside) and false.
-  bool endInside(int d, int k, const Vec3& p, double radius, const MotionSnapshot& motion);
+  /// True when p (the loop's x) is certified to lie at most `tolerance`
+  /// beyond the wall, *depth_bound then bounding its depth [m] (0 inside):
+  /// by its ball, or by Taylor's bounds from the point's last evaluation in
+  /// this step (g >= g_l + grad g_l . dp - H |dp|^2 / 2, |grad g| >= |grad g_l|
+  /// - H |dp|: a point pressed on the wall that moved a few micrometres
+  /// since the last loop). Else its field at p is evaluated (and its ball
+  /// re-centred there when inside) and false.
+  bool endWithinTolerance(int d, int k, const Vec3& p, double radius, const MotionSnapshot& motion,
+                          double tolerance, double* depth_bound);
   /// True when the chord p0 -> p lies in a certified ball (no tunnel).
   bool chordInside(int d, int k, const Vec3& p0, const Vec3& p) const;
 
@@ -53,7 +59,7 @@ class SampleFields {
   std::vector<std::vector<InteriorBall>>* balls_;
   std::vector<std::vector<InteriorBall>> start_ball_;  // the ball x_t lay in
   std::vector<std::vector<FieldSample>> start_, end_;
-  std::vector<std::vector<Vec3>> end_at_;  // where end_ was evaluated
+  std::vector<std::vector<Vec3>> start_at_, end_at_;  // where start_, end_ were evaluated
   std::vector<std::vector<char>> start_known_, end_known_;
   long evaluations_{0};
 };

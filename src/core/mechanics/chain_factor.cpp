@@ -9,12 +9,11 @@ namespace evsim {
 
 namespace {
 
-/// The inverse of a symmetric positive definite 6x6 block by its Cholesky
-/// factor L (A = L L^T, inverse = L^-T L^-1), written out for the fixed
-/// size: twice as fast as Eigen's LLT solve with the identity, whose
-/// triangular solves take the general-size path. False when A is not
-/// positive definite.
-bool spdInverse(const Mat6& A, Mat6* inverse) {
+/// The inverse M = L^-1 of the Cholesky factor of a symmetric positive
+/// definite 6x6 block (A = L L^T, A^-1 = M^T M), written out for the fixed
+/// size: Eigen's LLT takes its general-size triangular solves for 6x6, three
+/// times as slow. False when A is not positive definite.
+bool inverseCholeskyFactor(const Mat6& A, Mat6* M) {
   double L[6][6] = {};
   for (int j = 0; j < 6; ++j) {
     double d = A(j, j);
@@ -27,21 +26,15 @@ bool spdInverse(const Mat6& A, Mat6* inverse) {
       L[i][j] = s / L[j][j];
     }
   }
-  double M[6][6] = {};  // L^-1, lower triangular
+  M->setZero();
   for (int j = 0; j < 6; ++j) {
-    M[j][j] = 1.0 / L[j][j];
+    (*M)(j, j) = 1.0 / L[j][j];
     for (int i = j + 1; i < 6; ++i) {
       double s = 0.0;
-      for (int k = j; k < i; ++k) s -= L[i][k] * M[k][j];
-      M[i][j] = s / L[i][i];
+      for (int k = j; k < i; ++k) s -= L[i][k] * (*M)(k, j);
+      (*M)(i, j) = s / L[i][i];
     }
   }
-  for (int i = 0; i < 6; ++i)
-    for (int j = 0; j <= i; ++j) {
-      double s = 0.0;
-      for (int k = i; k < 6; ++k) s += M[k][i] * M[k][j];
-      (*inverse)(i, j) = (*inverse)(j, i) = s;
-    }
   return true;
 }
 
@@ -52,12 +45,16 @@ bool ChainFactor::factorize(const ChainMatrix& A, int first) {
   transfer_.resize(std::max(0, n - 1));
   d_inv_.resize(n);
   if (n == 0) return true;
-  Mat6 D = A.diag[first];
+  Mat6 D = A.diag[first], M, MU;
   for (int i = 0; i < n; ++i) {
-    if (!spdInverse(D, &d_inv_[i])) return false;
+    if (!inverseCholeskyFactor(D, &M)) return false;
+    d_inv_[i].noalias() = M.transpose() * M;
     if (i + 1 == n) break;
     const Mat6& upper = A.upper[first + i];  // A_{i,i+1}
-    transfer_[i].noalias() = -d_inv_[i] * upper;
+    // -D^-1 A_{i,i+1} through the two triangular factors: with D^-1 formed
+    // first, a stiff wire (cond(A) ~ 1e13) lost a digit and a half of W.
+    MU.noalias() = M * upper;
+    transfer_[i].noalias() = -M.transpose() * MU;
     D = A.diag[first + i + 1];
     D.noalias() += upper.transpose() * transfer_[i];
   }
