@@ -87,7 +87,9 @@ int dispatch(int argc, char** argv) {
   addBench(app, &bench, &what, &duration, &csv);
   addMesh(app, &mesh);
   app.add_subcommand("list", "the shipped scenes");
-  if (argc > 1 && argv[1][0] != '-' && !app.get_subcommand_ptr(argv[1])) {
+  const auto known =
+      app.get_subcommands([&](const CLI::App* c) { return argc > 1 && c->get_name() == argv[1]; });
+  if (argc > 1 && argv[1][0] != '-' && known.empty()) {
     std::cerr << "evsim: unknown command '" << argv[1]
               << "' (run, bench, mesh, list; evsim --help)\n";
     return kExitBadInput;

@@ -1,0 +1,97 @@
+// The evsim command line run as a user runs it: help, version, exit codes
+// (0 done, 1 a step failed, 2 bad input), paths checked before a run, and
+// the whole-scene bench's phases against the scene's own script.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace evsim {
+namespace {
+
+struct Outcome {
+  int code{-1};
+  std::string output;  // stdout and stderr
+};
+
+Outcome evsim(const std::string& arguments) {
+  const std::string command = std::string(EVSIM_EVSIM_BINARY) + " " + arguments + " 2>&1";
+  Outcome out;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return out;
+  std::array<char, 4096> buffer{};
+  while (fgets(buffer.data(), buffer.size(), pipe)) out.output += buffer.data();
+  const int status = pclose(pipe);
+  out.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return out;
+}
+
+bool says(const Outcome& o, const std::string& words) {
+  return o.output.find(words) != std::string::npos;
+}
+
+TEST(EvsimCli, HelpAndVersionExitZeroAndNameTheCommands) {
+  const Outcome help = evsim("--help");
+  EXPECT_EQ(help.code, 0);
+  for (const char* command : {"run", "bench", "mesh", "list"}) EXPECT_TRUE(says(help, command));
+  EXPECT_EQ(evsim("bench --help").code, 0);
+  const Outcome version = evsim("--version");
+  EXPECT_EQ(version.code, 0);
+  EXPECT_TRUE(says(version, "evsim "));
+}
+
+TEST(EvsimCli, BadInputExitsTwoAndSaysWhy) {
+  const Outcome unknown = evsim("frobnicate");
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_TRUE(says(unknown, "unknown command 'frobnicate'"));
+  const Outcome option = evsim("run free_insertion --nope");
+  EXPECT_EQ(option.code, 2);
+  EXPECT_TRUE(says(option, "--nope"));
+  const Outcome number = evsim("run free_insertion --steps ten");
+  EXPECT_EQ(number.code, 2);
+  EXPECT_TRUE(says(number, "--steps"));
+  const Outcome scene = evsim("run no_such_scene");
+  EXPECT_EQ(scene.code, 2);
+  EXPECT_TRUE(says(scene, "shipped: "));  // names the scenes that exist
+  const Outcome spacing = evsim("mesh carotid --out /tmp/evsim_cli.ply --spacing 1e-7");
+  EXPECT_EQ(spacing.code, 2);
+  EXPECT_TRUE(says(spacing, "1e-4"));
+}
+
+TEST(EvsimCli, AnUnwritableOutputIsRefusedBeforeTheRun) {
+  const Outcome save = evsim("run carotid --save-state /no/such/folder/state.txt");
+  EXPECT_EQ(save.code, 2);
+  EXPECT_TRUE(says(save, "cannot write /no/such/folder/state.txt"));
+  EXPECT_FALSE(says(save, "t="));  // nothing was stepped
+  const Outcome dump = evsim("run carotid --steps 5 --dump-lcp /proc/evsim_lcps");
+  EXPECT_EQ(dump.code, 2);
+  EXPECT_TRUE(says(dump, "--dump-lcp"));
+}
+
+TEST(EvsimCli, RunStepsTheScenesDurationByDefault) {
+  // free_insertion's script ends at 4 s, its duration is 5 s: the last
+  // progress line is at t = 5.
+  const Outcome run = evsim("run free_insertion");
+  EXPECT_EQ(run.code, 0);
+  EXPECT_TRUE(says(run, "t=5 s"));
+}
+
+TEST(EvsimCli, BenchSortsTheStepsIntoPhases) {
+  // free_insertion never touches anything: every step is 'free'; the
+  // whole procedure is 5 s of 1 ms steps.
+  const Outcome bench = evsim("bench free_insertion");
+  EXPECT_EQ(bench.code, 0);
+  EXPECT_TRUE(says(bench, "5000 steps of 1 ms"));
+  EXPECT_TRUE(says(bench, "  free         5000"));
+  EXPECT_TRUE(says(bench, "  whole        5000"));
+  // carotid_selective: the J-tip touches the trunk's wall while it is pushed.
+  const Outcome selective = evsim("bench carotid_selective --steps 800");
+  EXPECT_EQ(selective.code, 0);
+  EXPECT_TRUE(says(selective, "  contact "));
+}
+
+}  // namespace
+}  // namespace evsim
