@@ -20,6 +20,7 @@ struct RunOptions {
   std::string dump_lcp;    // folder for each step's last LCP ("" none)
   std::string load_state;  // state file to start from ("" none)
   std::string save_state;  // where the last good state goes ("" none)
+  bool strict{false};      // fail at a step the scene's options cannot solve (no recovery)
 };
 /// `evsim run`: steps a scene, a progress line per 0.1 s or a JSON line per step.
 int runScene(const RunOptions& options);
@@ -31,6 +32,7 @@ struct BenchOptions {
   int elements{0};                     // 0: the scene's discretisation
   std::optional<std::string> effects;  // replaces the scene's effects
   long min_rows{0};                    // also report the steps with >= this many LCP rows
+  bool strict{false};                  // no recovery step (see RunOptions::strict)
 };
 /// `evsim bench`: step-time statistics over the whole scene and per phase.
 int benchScene(const BenchOptions& options);

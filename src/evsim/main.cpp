@@ -29,6 +29,9 @@ void addRun(CLI::App& app, RunOptions* o) {
   run->add_option("--load-state", o->load_state, "start from a state saved by --save-state");
   run->add_option("--save-state", o->save_state,
                   "save the last good state (also after a failed step)");
+  run->add_flag("--strict", o->strict,
+                "fail at a step the scene's options cannot solve (default: retry it once with "
+                "the recovery options and say so)");
 }
 
 void addBench(CLI::App& app, BenchOptions* o, std::string* what, double* duration,
@@ -49,6 +52,7 @@ void addBench(CLI::App& app, BenchOptions* o, std::string* what, double* duratio
       ->add_option("--min-rows", o->min_rows,
                    "also report the steps whose last LCP has at least this many rows")
       ->check(CLI::Range(1L, 1000000L));
+  bench->add_flag("--strict", o->strict, "no recovery step: fail where the scene's options do");
   CLI::App* accuracy =
       bench->add_subcommand("accuracy", "what each accuracy knob costs, against a fine run");
   accuracy->add_option("what", *what, "SCENE, beam or root")->required();

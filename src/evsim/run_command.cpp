@@ -45,7 +45,13 @@ int runScene(const RunOptions& o) {
   const long report_every = std::max(1L, static_cast<long>(0.1 / model.time_step + 0.5));
   double wall_ms = 0.0;
   for (long k = 0; k < steps; ++k) {
-    if (step(model, &data) != StepStatus::kOk) {
+    bool recovered = false;
+    const StepStatus status =
+        o.strict ? step(model, &data) : stepOrRecover(model, &data, &recovered);
+    if (recovered)
+      std::cerr << "evsim: step " << data.step << " at t = " << data.time
+                << " s solved with the recovery options\n";
+    if (status != StepStatus::kOk) {
       std::cerr << "evsim: step " << data.step + 1 << " failed: " << data.last_error << "\n";
       save();  // the last good state, to study the failing step from
       return kExitFailure;

@@ -148,15 +148,6 @@ void SimulationLoop::notice(const std::string& text) {
   if (notices_.size() < 100) notices_.push_back(text);  // nobody reading: keep the first
 }
 
-SceneModel SimulationLoop::recoveryModel(const SceneModel& model) {
-  SceneModel m = model;
-  m.contact.lcp = LcpOptions{};  // the status method, automatic pivot limit, default tolerance
-  m.contact.max_activation_loops = std::max(m.contact.max_activation_loops, 40);
-  m.contact.max_subdivisions = std::max(m.contact.max_subdivisions, 8);
-  m.effects.subdivision = true;
-  return m;
-}
-
 bool SimulationLoop::onRejectedStep() {
   ++rejections_;
   const std::string why = data_.last_error;
@@ -170,7 +161,7 @@ bool SimulationLoop::onRejectedStep() {
     notice(at.str() + "; the state is kept and the step tried again");
     return false;
   }
-  const SceneModel recovery = recoveryModel(*model_);
+  const SceneModel recovery = evsim::recoveryModel(*model_);
   if (step(recovery, &data_) == StepStatus::kOk) {
     rejections_ = 0;
     notice(at.str() + "; recovered: this step solved with the status method, " +

@@ -161,7 +161,7 @@ TEST(LoopRecovery, TheRecoveryStepUsesTheExactSolverWithMoreRoom) {
   m.contact.lcp.solver = LcpSolver::kPgs;
   m.contact.lcp.max_iterations = 1;
   m.effects.subdivision = false;
-  const SceneModel r = SimulationLoop::recoveryModel(m);
+  const SceneModel r = recoveryModel(m);
   EXPECT_EQ(r.contact.lcp.solver, LcpSolver::kStatusMethod);
   EXPECT_EQ(r.contact.lcp.max_iterations, 0);  // automatic
   EXPECT_GE(r.contact.max_activation_loops, 40);

@@ -58,12 +58,9 @@ class SimulationLoop {
   /// script commands, drives stopped at their limits), oldest first.
   std::vector<std::string> takeNotices();
 
-  /// Rejections of one state before the recovery step.
+  /// Rejections of one state before the recovery step (with
+  /// evsim::recoveryModel, sim/simulation.h).
   static constexpr int kRejectionsBeforeRecovery = 3;
-  /// The scene for the recovery step: the status method with its default
-  /// tolerance and pivot limit, at least 40 activation loops and 8 halvings,
-  /// the effect 'subdivision' on.
-  static SceneModel recoveryModel(const SceneModel& model);
 
  private:
   void run();

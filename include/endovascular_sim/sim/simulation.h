@@ -104,8 +104,9 @@ struct SimData {
   size_t next_script_entry{0};
   StepStats stats;
   EffectCounters effect_calls;
-  std::string last_error;            // why the last failed step was rejected
-  std::vector<std::string> notices;  // scripted commands refused, drives at a limit (runners print and clear them)
+  std::string last_error;  // why the last failed step was rejected
+  std::vector<std::string>
+      notices;  // scripted commands refused, drives at a limit (runners print and clear them)
 };
 
 /// Throws LoadError when the spec is beyond the limits its scene states
@@ -136,5 +137,15 @@ std::string setCommand(const SceneModel& model, SimData* data, const std::string
 /// Advances the simulation by model.time_step. On failure the previous state
 /// is kept and data->last_error says why; no NaN ever reaches the state.
 StepStatus step(const SceneModel& model, SimData* data);
+
+/// The scene for a step that failed with the scene's own options: the
+/// status method with its default tolerance and pivot limit, at least 40
+/// activation loops and 8 halvings, the effect 'subdivision' on. The node
+/// and evsim retry a failed step with it once, and say so.
+SceneModel recoveryModel(const SceneModel& model);
+
+/// step(), and when it fails, the same step again with recoveryModel
+/// (*recovered set then). kOk when either succeeded.
+StepStatus stepOrRecover(const SceneModel& model, SimData* data, bool* recovered);
 
 }  // namespace evsim

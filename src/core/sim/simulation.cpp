@@ -276,6 +276,26 @@ std::string detachDevice(const SceneModel& model, SimData* data, const std::stri
   return "";
 }
 
+SceneModel recoveryModel(const SceneModel& model) {
+  SceneModel m = model;
+  m.contact.lcp = LcpOptions{};  // the status method, automatic pivot limit, default tolerance
+  m.contact.max_activation_loops = std::max(m.contact.max_activation_loops, 40);
+  m.contact.max_subdivisions = std::max(m.contact.max_subdivisions, 8);
+  m.effects.subdivision = true;
+  return m;
+}
+
+StepStatus stepOrRecover(const SceneModel& model, SimData* data, bool* recovered) {
+  *recovered = false;
+  const StepStatus status = step(model, data);
+  if (status == StepStatus::kOk) return status;
+  const std::string why = data->last_error;
+  const StepStatus retry = step(recoveryModel(model), data);
+  *recovered = retry == StepStatus::kOk;
+  if (!*recovered) data->last_error = why + "; with the recovery options: " + data->last_error;
+  return retry;
+}
+
 std::string setCommand(const SceneModel& model, SimData* data, const std::string& device,
                        const DriveCommand& command) {
   const int i = findDevice(model, device);
