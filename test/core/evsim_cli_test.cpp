@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 namespace evsim {
@@ -91,6 +92,31 @@ TEST(EvsimCli, BenchSortsTheStepsIntoPhases) {
   const Outcome selective = evsim("bench carotid_selective --steps 800");
   EXPECT_EQ(selective.code, 0);
   EXPECT_TRUE(says(selective, "  contact "));
+}
+
+TEST(EvsimCli, AStepTheScenesOptionsCannotSolveIsRecoveredOrFailsWithStrict) {
+  // carotid_selective with one PGS sweep: its first contact (t = 0.41 s)
+  // is not solved by the scene's options; the recovery step solves it.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "evsim_cli_recovery";
+  fs::create_directories(dir);
+  const std::string scenes = std::string(EVSIM_TEST_DATA_DIR) + "/../../config/scenes/";
+  std::ifstream in(scenes + "carotid_selective.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const char* what : {"../vessels/", "../devices/"}) {
+    const std::string to = fs::canonical(fs::path(scenes) / what).string() + "/";
+    for (size_t at; (at = text.find(what)) != std::string::npos;) text.replace(at, 11, to);
+  }
+  text += "contact:\n  solver: pgs\n  max_iterations: 1\n";
+  const std::string scene = (dir / "pgs_one_sweep.yaml").string();
+  std::ofstream(scene) << text;
+  const Outcome strict = evsim("run " + scene + " --steps 600 --strict");
+  EXPECT_EQ(strict.code, 1) << strict.output;
+  EXPECT_TRUE(says(strict, "iteration limit")) << strict.output;
+  const Outcome recovered = evsim("run " + scene + " --steps 600");
+  EXPECT_EQ(recovered.code, 0) << recovered.output;
+  EXPECT_TRUE(says(recovered, "solved with the recovery options")) << recovered.output;
+  fs::remove_all(dir);
 }
 
 }  // namespace
