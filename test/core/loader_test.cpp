@@ -207,6 +207,30 @@ TEST_F(Loader, UnknownEffectIsNamed) {
               "unknown effect 'magnetism'");
 }
 
+TEST_F(Loader, AMisspelledKeyIsRefusedWithTheNearestOne) {
+  // A misspelled key must not run the scene with the default silently.
+  expectNames(sceneError("gravity: [0", "gravty: [0"), "scene.yaml", 4, "gravty",
+              "unknown key 'gravty' (did you mean 'gravity'?)");
+  expectNames(sceneError("inserted_length: 0.05", "inserted_lenght: 0.05"), "scene.yaml", 9,
+              "devices[0].inserted_lenght", "did you mean 'inserted_length'?");
+  expectNames(sceneError("insertion: 0.01}", "insertoin: 0.01}"), "scene.yaml", 11,
+              "script[0].insertoin", "did you mean 'insertion'?");
+}
+
+TEST_F(Loader, ADuplicateKeyIsRefused) {
+  expectNames(sceneError("time_step: 0.001\n", "time_step: 0.001\ntime_step: 0.002\n"),
+              "scene.yaml", 3, "time_step", "duplicate key 'time_step'");
+}
+
+TEST_F(Loader, AScalarWhereAMapBelongsIsAnErrorNotAnAbort) {
+  expectNames(sceneError("  - {time: 0.5, device: wire, insertion: 0.01}", "  - 7"), "scene.yaml",
+              11, "script[0]", "must be a map");
+  expectNames(sceneError("effects: [gravity]\n", "effects: [gravity]\nvessels: 3\n"), "scene.yaml",
+              4, "vessels", "must be a map");
+  expectNames(sceneError("effects: [gravity]\n", "effects: [gravity]\ncontact: [1, 2]\n"),
+              "scene.yaml", 4, "contact", "must be a map");
+}
+
 TEST_F(Loader, MissingDeviceFileIsNamed) {
   expectNames(sceneError("file: wire.urdf", "file: nowhere.urdf"), "scene.yaml", 6,
               "devices[0].file", "no device file");

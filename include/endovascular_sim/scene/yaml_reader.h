@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <initializer_list>
 #include <string>
 
 #include "endovascular_sim/core/types.h"
@@ -32,6 +33,12 @@ class YamlReader {
   /// A whole number.
   int integer(const YAML::Node& n, const std::string& field) const;
   std::string text(const YAML::Node& n, const std::string& field) const;
+  /// Checks that n is a map whose keys are all in `allowed`, each once: an
+  /// unknown key is refused with the nearest allowed one ("did you mean")
+  /// and the list, a repeated key as a duplicate (yaml-cpp would keep the
+  /// first silently). `field` names the map ("" the file's top level).
+  void keys(const YAML::Node& n, const std::string& field,
+            std::initializer_list<const char*> allowed) const;
   Vec3 vector3(const YAML::Node& n, const std::string& field) const;
 
   const std::string& file() const { return file_; }

@@ -113,18 +113,19 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
 }
 
 /// A wall contact of the previous step that starts this one: it carried a
-/// force and its point still takes part.
-bool keptWallContact(const ContactProblem& pb, const Contact& prev) {
-  if (prev.other_device >= 0 || !(prev.force > 0.0) ||
-      prev.device >= static_cast<int>(pb.devices->size()))
-    return false;
+/// force, or ended touching its plane (gap within `touching` [m]: a point
+/// resting on the wall with no force, which the next step's free motion
+/// pushes through again), and its point still takes part.
+bool keptWallContact(const ContactProblem& pb, const Contact& prev, double touching) {
+  if (prev.other_device >= 0 || prev.device >= static_cast<int>(pb.devices->size())) return false;
+  if (!(prev.force > 0.0) && !(std::abs(prev.gap) <= touching)) return false;
   return takesPart(pb, prev.device, (*pb.samples)[prev.device][prev.sample]);
 }
 
-bool hasKeptWallContacts(const ContactProblem& pb) {
+bool hasKeptWallContacts(const ContactProblem& pb, double touching) {
   if (!pb.previous) return false;
   for (const Contact& prev : *pb.previous)
-    if (keptWallContact(pb, prev)) return true;
+    if (keptWallContact(pb, prev, touching)) return true;
   return false;
 }
 
@@ -132,11 +133,11 @@ bool hasKeptWallContacts(const ContactProblem& pb) {
 /// (a pre-shaped tip held against the wall springs back out in the free
 /// motion, and without its contact the first loops chase it millimetres
 /// away), their planes where their points at x_t project on the wall.
-void keepWallContacts(const ContactProblem& pb, const RootOptions& root,
+void keepWallContacts(const ContactProblem& pb, const RootOptions& root, double touching,
                       std::vector<Contact>* contacts, std::vector<std::vector<int>>* contact_of) {
   if (!pb.previous || !pb.surface) return;
   for (const Contact& prev : *pb.previous) {
-    if (!keptWallContact(pb, prev)) continue;
+    if (!keptWallContact(pb, prev, touching)) continue;
     const int d = prev.device, k = prev.sample;
     if ((*contact_of)[d][k] >= 0) continue;
     const SamplePoint& s = (*pb.samples)[d][k];
@@ -472,11 +473,12 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   // a device held by its contacts swings millimetres away from them in the
   // free motion, and crossings along that path are undone by the kept
   // contacts in the first loop anyway (options.detect_on_first_iterate).
-  bool detect_later = o.detect_on_first_iterate && pb.surface && hasKeptWallContacts(pb);
+  bool detect_later =
+      o.detect_on_first_iterate && pb.surface && hasKeptWallContacts(pb, o.penetration_tolerance);
   // A point beyond the wall where no plane can be found.
   bool stranded = pb.surface && !detect_later &&
                   detectWallCrossings(pb, xf, root, &field, contacts, &contact_of);
-  keepWallContacts(pb, root, contacts, &contact_of);
+  keepWallContacts(pb, root, o.penetration_tolerance, contacts, &contact_of);
   if (detect_later && contacts->empty()) {  // no kept contact found its plane
     detect_later = false;
     stranded = detectWallCrossings(pb, xf, root, &field, contacts, &contact_of);

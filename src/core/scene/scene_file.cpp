@@ -17,7 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kMaxTimeStep = 0.04;  // [s] one step per 25 Hz frame
+constexpr double kMaxTimeStep = 0.04;    // [s] one step per 25 Hz frame
 constexpr double kMaxDuration = 3600.0;  // [s] a scripted procedure
 
 Mat3 introducerFrame(const Vec3& direction, const Vec3& up) {
@@ -33,7 +33,9 @@ Mat3 introducerFrame(const Vec3& direction, const Vec3& up) {
 DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int index,
                                const fs::path& scene_dir) {
   const std::string p = "devices[" + std::to_string(index) + "].";
-  if (!n.IsMap()) r.fail(n, p.substr(0, p.size() - 1), "must be a map");
+  r.keys(n, p.substr(0, p.size() - 1),
+         {"file", "name", "inside", "access_point", "insertion_direction", "up", "inserted_length",
+          "rotation", "max_element_length"});
   DevicePlacementSpec d;
   const fs::path file = r.text(r.required(n, "file", p + "file"), p + "file");
   d.file = (file.is_absolute() ? file : scene_dir / file).lexically_normal().string();
@@ -76,7 +78,7 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
 VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path& scene_dir) {
   VesselSpec v;
   v.present = true;
-  if (!n.IsMap()) r.fail(n, "vessels", "must be a map");
+  r.keys(n, "vessels", {"centerline", "units", "blend", "network", "aneurysms", "motion"});
   const fs::path file =
       r.text(r.required(n, "centerline", "vessels.centerline"), "vessels.centerline");
   v.centerline_file = (file.is_absolute() ? file : scene_dir / file).lexically_normal().string();
@@ -98,6 +100,7 @@ VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path&
     r.fail(n["blend"], "vessels.blend", "must lie in [0.3, 0.95]");
   if (n["network"]) {
     const YAML::Node g = n["network"];
+    r.keys(g, "vessels.network", {"seed", "vessels", "min_radius"});
     v.grow_network = true;
     const double seed =
         r.number(r.required(g, "seed", "vessels.network.seed"), "vessels.network.seed");
@@ -118,6 +121,7 @@ VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path&
     if (!list.IsSequence()) r.fail(list, "vessels.aneurysms", "must be a list");
     for (size_t i = 0; i < list.size(); ++i) {
       const std::string p = "vessels.aneurysms[" + std::to_string(i) + "].";
+      r.keys(list[i], p.substr(0, p.size() - 1), {"center", "radius"});
       AneurysmSpec a;
       a.center = r.vector3(r.required(list[i], "center", p + "center"), p + "center");
       a.radius = r.number(r.required(list[i], "radius", p + "radius"), p + "radius");
@@ -130,6 +134,8 @@ VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path&
     if (!list.IsSequence()) r.fail(list, "vessels.motion", "must be a list of regions");
     for (size_t i = 0; i < list.size(); ++i) {
       const std::string p = "vessels.motion[" + std::to_string(i) + "].";
+      r.keys(list[i], p.substr(0, p.size() - 1),
+             {"center", "radius", "amplitude", "frequency", "phase"});
       MotionRegion m;
       m.center = r.vector3(r.required(list[i], "center", p + "center"), p + "center");
       m.radius = r.number(r.required(list[i], "radius", p + "radius"), p + "radius");
@@ -149,7 +155,11 @@ VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path&
 
 ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   ContactOptions o;
-  if (!n.IsMap()) r.fail(n, "contact", "must be a map");
+  r.keys(n, "contact",
+         {"solver", "tolerance", "max_iterations", "regularization", "max_activation_loops",
+          "max_subdivisions", "contact_spacing", "penetration_tolerance", "root_tolerance",
+          "wall_curvature", "curvature_loops", "interior_balls", "detect_on_first_iterate",
+          "friction_solver", "friction_tolerance", "friction_max_sweeps"});
   if (n["solver"]) {
     try {
       o.lcp.solver = lcpSolverFromName(r.text(n["solver"], "contact.solver"));
@@ -238,6 +248,7 @@ void resolveOuterDevice(const YamlReader& r, const YAML::Node& n, int i, SceneSp
 ScriptedCommand readCommand(const YamlReader& r, const YAML::Node& n, int index,
                             const SceneSpec& scene) {
   const std::string p = "script[" + std::to_string(index) + "].";
+  r.keys(n, p.substr(0, p.size() - 1), {"time", "device", "mode", "insertion", "rotation"});
   ScriptedCommand c;
   c.time = r.number(r.required(n, "time", p + "time"), p + "time");
   if (c.time < 0.0) r.fail(n["time"], p + "time", "must not be negative");
@@ -276,10 +287,15 @@ const std::vector<std::string>& knownEffects() {
   return effects;
 }
 
-SceneSpec loadSceneFile(const std::string& path) {
+namespace {
+
+SceneSpec readSceneFile(const std::string& path) {
   const YamlReader r(path);
   const YAML::Node root = r.load();
   if (!root.IsMap()) r.fail(root, "", "a scene is a YAML map");
+  r.keys(root, "",
+         {"name", "description", "time_step", "duration", "effects", "gravity", "vessels",
+          "contact", "devices", "script"});
   SceneSpec s;
   s.file = path;
   s.name = r.text(r.required(root, "name", "name"), "name");
@@ -352,6 +368,16 @@ SceneSpec loadSceneFile(const std::string& path) {
       r.fail(root["duration"], "duration", "must lie in [time_step, 3600] s");
   }
   return s;
+}
+
+}  // namespace
+
+SceneSpec loadSceneFile(const std::string& path) {
+  try {
+    return readSceneFile(path);
+  } catch (const YAML::Exception& e) {  // a type yaml-cpp could not convert: never an abort
+    throw LoadError(path, e.mark.is_null() ? 0 : e.mark.line + 1, "", e.msg);
+  }
 }
 
 Centerline buildCenterline(const VesselSpec& spec) {

@@ -1,7 +1,10 @@
 #include "endovascular_sim/scene/yaml_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <set>
+#include <vector>
 
 #include "endovascular_sim/core/load_error.h"
 
@@ -58,6 +61,54 @@ int YamlReader::integer(const YAML::Node& n, const std::string& field) const {
 std::string YamlReader::text(const YAML::Node& n, const std::string& field) const {
   if (!n.IsScalar()) fail(n, field, "must be a string");
   return n.as<std::string>();
+}
+
+namespace {
+
+/// Edit distance between two keys (insertions, deletions, substitutions).
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t next = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = row[j];
+      row[j] = next;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
+void YamlReader::keys(const YAML::Node& n, const std::string& field,
+                      std::initializer_list<const char*> allowed) const {
+  if (!n.IsMap()) fail(n, field, "must be a map");
+  std::set<std::string> seen;
+  for (const auto& entry : n) {
+    const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : "";
+    const std::string where = field.empty() ? key : field + "." + key;
+    if (key.empty()) fail(entry.first, field, "a key must be a name");
+    if (!seen.insert(key).second) fail(entry.first, where, "duplicate key '" + key + "'");
+    std::string nearest, list;
+    size_t best = std::string::npos;
+    bool known = false;
+    for (const char* a : allowed) {
+      known = known || key == a;
+      list += (list.empty() ? "" : ", ") + std::string(a);
+      const size_t d = editDistance(key, a);
+      if (d < best) {
+        best = d;
+        nearest = a;
+      }
+    }
+    if (known) continue;
+    std::string what = "unknown key '" + key + "'";
+    if (best <= std::max<size_t>(2, key.size() / 3)) what += " (did you mean '" + nearest + "'?)";
+    fail(entry.first, where, what + "; known here: " + list);
+  }
 }
 
 Vec3 YamlReader::vector3(const YAML::Node& n, const std::string& field) const {
