@@ -88,7 +88,6 @@ const FieldSample& SampleFields::start(int d, int k, const Vec3& p0, double radi
     start_[d][k] = surface_->evaluate(p0, radius, motion);
     start_at_[d][k] = p0;
     start_known_[d][k] = 1;
-    ++evaluations_;
   }
   return start_[d][k];
 }
@@ -99,7 +98,6 @@ const FieldSample& SampleFields::end(int d, int k, const Vec3& p, double radius,
     end_[d][k] = surface_->evaluate(p, radius, motion);
     end_at_[d][k] = p;
     end_known_[d][k] = 1;
-    ++evaluations_;
   }
   return end_[d][k];
 }

@@ -49,8 +49,6 @@ class SampleFields {
                            const MotionSnapshot& motion);
   const FieldSample& end(int d, int k, const Vec3& p, double radius, const MotionSnapshot& motion);
 
-  long evaluations() const { return evaluations_; }
-
  private:
   /// Re-centres (d, k)'s ball at c, where the field is `at`.
   void recentre(int d, int k, const Vec3& c, const FieldSample& at, double radius);
@@ -61,7 +59,6 @@ class SampleFields {
   std::vector<std::vector<FieldSample>> start_, end_;
   std::vector<std::vector<Vec3>> start_at_, end_at_;  // where start_, end_ were evaluated
   std::vector<std::vector<char>> start_known_, end_known_;
-  long evaluations_{0};
 };
 
 }  // namespace fields
