@@ -7,6 +7,7 @@
 
 #include "endovascular_sim/contact/contact_point.h"
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/geometry/centerline.h"
 #include "endovascular_sim/scene/device_file.h"
 #include "endovascular_sim/scene/scene_file.h"
 #include "endovascular_sim/sim/simulation.h"
@@ -231,6 +232,61 @@ TEST_F(Loader, AScalarWhereAMapBelongsIsAnErrorNotAnAbort) {
               "scene.yaml", 4, "contact", "must be a map");
 }
 
+TEST_F(Loader, AFullInsertionAtTheNominalLengthIsValid) {
+  // The device is 0.3 + 0.02 m long (its sections' sum); 0.32 is a full
+  // insertion whatever the round-off of that sum.
+  write("wire.urdf", kDevice);
+  std::string text = kScene;
+  text.replace(text.find("inserted_length: 0.05"), 21, "inserted_length: 0.32");
+  const SceneSpec s = loadSceneFile(write("scene.yaml", text));
+  const DeviceModel m = buildDeviceModel(s.devices[0].device);
+  EXPECT_LE(s.devices[0].inserted_length, m.length);
+  EXPECT_NEAR(s.devices[0].inserted_length, 0.32, 1e-12);
+}
+
+TEST_F(Loader, AnElementLengthThatWouldExhaustMemoryIsRefused) {
+  expectNames(
+      sceneError("inserted_length: 0.05", "inserted_length: 0.05\n    max_element_length: 1e-9"),
+      "scene.yaml", 10, "devices[0].max_element_length", "at least 1e-5 m");
+}
+
+TEST_F(Loader, AnAccessPointOutsideTheVesselsIsRefusedWithItsDistance) {
+  // The carotid tree's descending aorta (radius 12 mm, its axis at x = 25
+  // mm): 15 mm out along x, the point is about 3 mm beyond its wall.
+  write("wire.urdf", kDevice);
+  std::string text = kScene;
+  text.replace(text.find("devices:"), 8,
+               "vessels: {centerline: " + configDirectory() + "/vessels/carotid.swc}\ndevices:");
+  text.replace(text.find("access_point: [0, 0, 0]"), 23, "access_point: [0.040, -0.02, -0.13]");
+  const SceneSpec spec = loadSceneFile(write("scene.yaml", text));
+  try {
+    buildSceneModel(spec);
+    ADD_FAILURE() << "accepted";
+  } catch (const LoadError& e) {
+    EXPECT_EQ(e.line(), 8) << e.what();
+    EXPECT_EQ(e.field(), "devices[0].access_point");
+    EXPECT_NE(std::string(e.what()).find("mm beyond the wall"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(Loader, AJointThatIsNotFixedIsRefused) {
+  const LoadError e = deviceError("type=\"fixed\"", "type=\"continuous\"");
+  EXPECT_EQ(e.field(), "joint[j]") << e.what();
+  EXPECT_NE(std::string(e.what()).find("is not fixed"), std::string::npos) << e.what();
+}
+
+TEST_F(Loader, ANonIntegerSwcParentIsRefused) {
+  const std::string swc = write("v.swc", "1 1 0 0 0 3 -1\n2 1 10 0 0 3 1.5\n");
+  try {
+    loadCenterlineFile(swc, 1e-3);
+    ADD_FAILURE() << "accepted";
+  } catch (const LoadError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(e.field(), "parent");
+    EXPECT_NE(std::string(e.what()).find("not a whole number"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(Loader, MissingDeviceFileIsNamed) {
   expectNames(sceneError("file: wire.urdf", "file: nowhere.urdf"), "scene.yaml", 6,
               "devices[0].file", "no device file");
@@ -254,7 +310,7 @@ TEST_F(Loader, MaxElementLengthRefinesOnlyCoarserSections) {
 TEST_F(Loader, NonPositiveMaxElementLengthIsNamed) {
   expectNames(
       sceneError("inserted_length: 0.05", "inserted_length: 0.05\n    max_element_length: 0"),
-      "scene.yaml", 10, "devices[0].max_element_length", "must be positive");
+      "scene.yaml", 10, "devices[0].max_element_length", "must be at least 1e-5 m");
 }
 
 TEST_F(Loader, ScriptedCommandBeyondLimitsIsRefused) {

@@ -106,6 +106,28 @@ TEST(StateFile, ABadFileIsRefusedNamingLineAndFieldAndTheDataIsKept) {
     l[4] += " 1.0";
     damages.push_back({"a field too many", l, 5, "node"});
   }
+  {
+    std::vector<std::string> l = lines;
+    std::istringstream clock(l[2]);
+    std::string word, time;
+    clock >> word >> time;
+    l[2].replace(l[2].find(time), time.size(), "-1");
+    damages.push_back({"a negative clock", l, 3, "time"});
+  }
+  {
+    std::vector<std::string> l = lines;  // "device NAME NODES INSERTED ..."
+    std::istringstream device(l[3]);
+    std::string word, name, nodes, inserted;
+    device >> word >> name >> nodes >> inserted;
+    l[3].replace(l[3].find(" " + inserted + " ") + 1, inserted.size(), "-0.01");
+    damages.push_back({"a negative inserted length", l, 4, "inserted length"});
+  }
+  for (size_t i = 0; i < lines.size(); ++i)
+    if (lines[i].rfind("contacts ", 0) == 0) {
+      std::vector<std::string> l = lines;
+      l[i] = "contacts 100000000";  // would allocate gigabytes
+      damages.push_back({"millions of contacts", l, static_cast<int>(i) + 1, "contacts"});
+    }
   const std::string bad = tempPath("bad.txt");
   SimData target = makeData(model);
   const long step_before = target.step;

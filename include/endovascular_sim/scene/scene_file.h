@@ -26,6 +26,7 @@ struct DevicePlacementSpec {
   /// file's sections to it, and checkSceneLimits refuses a coarser variant.
   double max_element_length{0.0};
   int max_element_length_line{0};
+  int access_point_line{0};  // the scene file's line of access_point (0: none)
 };
 
 struct ScriptedCommand {

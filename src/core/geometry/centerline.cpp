@@ -77,6 +77,9 @@ Centerline loadCenterlineFile(const std::string& path, double default_unit) {
       if (!std::isfinite(v[k])) throw LoadError(path, line, kColumns[k], "must be finite");
     }
     if (v[5] <= 0.0) throw LoadError(path, line, "radius", "must be positive");
+    for (int k : {0, 1, 6})  // id, type, parent
+      if (v[k] != std::floor(v[k]) || std::abs(v[k]) > 1e15)
+        throw LoadError(path, line, kColumns[k], "'" + tokens[k] + "' is not a whole number");
     rows.push_back({static_cast<long>(v[0]), static_cast<long>(v[6]), static_cast<int>(v[1]), line,
                     Vec3(v[2], v[3], v[4]), v[5]});
   }

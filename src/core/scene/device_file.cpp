@@ -192,6 +192,18 @@ DeviceSpec loadDeviceFile(const std::string& path) {
     link = link->child_links.empty() ? nullptr : link->child_links[0];
   }
 
+  for (const auto& [name, joint] : urdf_model->joints_)
+    if (joint->type != urdf::Joint::FIXED)
+      throw LoadError(path, robot->Row(), "joint[" + name + "]",
+                      "is not fixed: a device's sections are joined by fixed joints (its bending "
+                      "is the beams')");
+  long elements = 0;
+  for (const DeviceSectionSpec& sec : spec.sections) elements += sec.elements;
+  if (elements > 100000)
+    throw LoadError(path, robot->Row(), "evsim_section/elements",
+                    "the sections hold " + std::to_string(elements) +
+                        " elements, more than the limit of 100000 a device");
+
   const TiXmlElement* device = robot->FirstChildElement("evsim_device");
   if (!device) throw LoadError(path, robot->Row(), "evsim_device", "is missing");
   AttributeReader d(path, device, "evsim_device/");

@@ -17,8 +17,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kMaxTimeStep = 0.04;    // [s] one step per 25 Hz frame
-constexpr double kMaxDuration = 3600.0;  // [s] a scripted procedure
+constexpr double kMaxTimeStep = 0.04;       // [s] one step per 25 Hz frame
+constexpr double kMaxDuration = 3600.0;     // [s] a scripted procedure
+constexpr double kLengthTolerance = 1e-9;   // relative, on lengths compared with a device's
+constexpr double kMinElementLength = 1e-5;  // [m] max_element_length's floor
+constexpr double kMaxDeviceElements = 1e5;  // per device, after refinement
 
 Mat3 introducerFrame(const Vec3& direction, const Vec3& up) {
   const Vec3 x = direction.normalized();
@@ -51,6 +54,7 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
   } else {
     d.introducer.access_point =
         r.vector3(r.required(n, "access_point", p + "access_point"), p + "access_point");
+    d.access_point_line = n["access_point"].Mark().line + 1;
     const Vec3 dir = r.vector3(r.required(n, "insertion_direction", p + "insertion_direction"),
                                p + "insertion_direction");
     if (dir.norm() < 1e-9) r.fail(n["insertion_direction"], p + "insertion_direction", "is zero");
@@ -59,8 +63,18 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
   }
   if (n["max_element_length"]) {  // a finer discretisation than the device file's
     const double h = r.number(n["max_element_length"], p + "max_element_length");
-    if (!(h > 0.0))
-      r.fail(n["max_element_length"], p + "max_element_length", "must be positive [m]");
+    if (!(h >= kMinElementLength))
+      r.fail(n["max_element_length"], p + "max_element_length",
+             "must be at least 1e-5 m (10 um): finer elements are far below what a device's "
+             "bending needs, and their count would not fit in memory");
+    double total = 0.0;
+    for (const DeviceSectionSpec& sec : d.device.sections)
+      total += std::max<double>(sec.elements, std::ceil(sec.length / h));
+    if (total > kMaxDeviceElements)
+      r.fail(n["max_element_length"], p + "max_element_length",
+             "refines the device to " + std::to_string(static_cast<long>(total)) +
+                 " elements, more than the limit of 100000 (kMaxDeviceElements in "
+                 "scene_file.cpp): use a longer length");
     for (DeviceSectionSpec& sec : d.device.sections)
       sec.elements = std::max(sec.elements, static_cast<int>(std::ceil(sec.length / h - 1e-9)));
     d.max_element_length = h;
@@ -68,9 +82,12 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
   }
   const DeviceModel model = buildDeviceModel(d.device);
   d.inserted_length = r.number(n, "inserted_length", p, 0.0);
-  if (d.inserted_length < 0.0 || d.inserted_length > model.length)
+  // The device's length is a sum of its sections': a full insertion written
+  // as the nominal length may exceed it by round-off.
+  if (d.inserted_length < 0.0 || d.inserted_length > model.length * (1.0 + kLengthTolerance))
     r.fail(n["inserted_length"], p + "inserted_length",
            "must lie in [0, " + std::to_string(model.length) + "] m (the device's length)");
+  d.inserted_length = std::min(d.inserted_length, model.length);
   d.rotation = r.number(n, "rotation", p, 0.0);
   return d;
 }

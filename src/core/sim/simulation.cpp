@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "endovascular_sim/contact/coaxial.h"
+#include "endovascular_sim/core/load_error.h"
 
 namespace evsim {
 namespace {
@@ -182,6 +183,30 @@ void noteDriveLimits(const SceneModel& model, const std::vector<double>& before,
   }
 }
 
+/// Every device's access point lies in a lumen wide enough for it: else the
+/// first step fails with the device beyond the wall; refused at load with
+/// the distance to the wall.
+void checkAccessPoints(const SceneSpec& spec, const VesselField* vessels) {
+  if (!vessels) return;
+  for (size_t i = 0; i < spec.devices.size(); ++i) {
+    const DevicePlacementSpec& d = spec.devices[i];
+    if (d.outer >= 0) continue;  // enters through its outer device
+    double radius = 0.0;
+    for (const auto& sec : d.device.sections) radius = std::max(radius, sec.section.outer_radius);
+    const FieldSample g = vessels->evaluate(d.introducer.access_point, radius);
+    if (g.value >= 0.0) continue;
+    std::ostringstream why;
+    const double slope = g.gradient.norm();
+    if (slope > 0.0)
+      why << "lies " << -g.value / slope * 1e3 << " mm beyond the wall of the vessels for a device "
+          << "of radius " << radius * 1e3 << " mm: move it into a lumen";
+    else
+      why << "lies outside every vessel: move it into a lumen";
+    throw LoadError(spec.file, d.access_point_line,
+                    "devices[" + std::to_string(i) + "].access_point", why.str());
+  }
+}
+
 }  // namespace
 
 SceneModel buildSceneModel(const SceneSpec& spec) {
@@ -209,6 +234,7 @@ SceneModel buildSceneModel(const SceneSpec& spec) {
         buildVesselField(spec.vessels, m.effects.vessel_motion));
     m.surface = m.vessels;
   }
+  checkAccessPoints(spec, m.vessels.get());
   m.contact = spec.contact;
   m.contact.friction = m.effects.friction;
   for (const auto& d : spec.devices) {

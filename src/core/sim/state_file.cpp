@@ -142,6 +142,7 @@ void loadState(const SceneModel& model, const std::string& path, SimData* data) 
   r.end("scene");
   r.record("clock");
   next.time = r.real("time");
+  if (next.time < 0.0) r.fail("time", "must not be negative");
   next.step = r.integer("step", 0, 1L << 50);
   next.next_script_entry = static_cast<size_t>(
       r.integer("next script entry", 0, static_cast<long>(model.script.size())));
@@ -157,6 +158,9 @@ void loadState(const SceneModel& model, const std::string& path, SimData* data) 
     const long nodes = static_cast<long>(s.position.size());
     r.integer("nodes", nodes, nodes);
     s.inserted_length = r.real("inserted length");
+    if (s.inserted_length < 0.0 || s.inserted_length > model.devices[d].length * (1.0 + 1e-12))
+      r.fail("inserted length", "must lie in [0, " + std::to_string(model.devices[d].length) +
+                                    "] m (the device's length)");
     s.rotation_angle = r.real("rotation angle");
     s.released = r.integer("released", 0, 1) == 1;
     s.cut_element = static_cast<int>(r.integer("cut element", -1, nodes - 2));
@@ -180,10 +184,17 @@ void loadState(const SceneModel& model, const std::string& path, SimData* data) 
                                           : DriveCommand::Mode::kVelocity;
     c.insertion = r.real("insertion");
     c.rotation = r.real("rotation");
+    const std::string why = validateDriveCommand(c, model.devices[d]);
+    if (!why.empty()) r.fail("command", why);
     r.end("command");
   }
   r.record("contacts");
-  const long count = r.integer("contacts", 0, 1L << 24);
+  // At most a wall, a pair and a lumen contact per sample point, and their
+  // second planes: a larger count is damage, not a state (and would
+  // allocate gigabytes).
+  long samples = 0;
+  for (const auto& s : model.samples) samples += static_cast<long>(s.size());
+  const long count = r.integer("contacts", 0, 6 * samples + 16);
   r.end("contacts");
   next.contacts.assign(count, Contact{});
   for (Contact& c : next.contacts) {
