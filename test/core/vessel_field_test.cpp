@@ -208,3 +208,36 @@ TEST(VesselField, MotionIsPeriodicWithTheDeclaredPeriods) {
 
 }  // namespace
 }  // namespace evsim
+
+namespace evsim {
+namespace {
+
+TEST(VesselField, MovingVesselsMatchTheirCentrelineMovedAndAtRest) {
+  // The field of moving vessels evaluates each segment moved by the
+  // snapshot (kept per snapshot): it must equal the field of the centreline
+  // whose points were moved by the same displacement, at rest. Snapshots
+  // alternate, as a step's and its halves' do.
+  Centerline c = straightVessel(-0.05, 0.05, 20, 3e-3);
+  c.append(straightVessel(-0.04, 0.04, 12, 2e-3, Vec3(0.0, 0.004, 0.002)));
+  const MotionRegion heart{Vec3(0, 0, 0), 0.08, Vec3(0, 1.5e-3, 1e-3), 1.2, 0.0};
+  const MotionRegion breath{Vec3(0.02, 0, 0), 0.2, Vec3(0, 0, 2e-3), 0.25, 0.3};
+  const VesselField moving(c, {}, {heart, breath}, {});
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (double t : {0.1, 0.37, 0.1, 1.9, 0.37}) {
+    const MotionSnapshot m = moving.motionAt(t);
+    Centerline moved = c;
+    for (Vec3& x : moved.position) x += moving.displacement(x, m);
+    const VesselField at_rest(moved, {}, {}, {});
+    for (int k = 0; k < 200; ++k) {
+      const Vec3 p(0.04 * u(rng), 0.006 * u(rng), 0.006 * u(rng));
+      const FieldSample a = moving.evaluate(p, 1e-4, m), b = at_rest.evaluate(p, 1e-4);
+      EXPECT_NEAR(a.value, b.value, 1e-12) << "t " << t << " point " << k;
+      EXPECT_LT((a.gradient - b.gradient).norm(), 1e-9 * (1.0 + b.gradient.norm()))
+          << "t " << t << " point " << k;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace evsim

@@ -86,6 +86,13 @@ class VesselField : public ImplicitSurface {
     int weights;
   };
   Vec3 displaced(const Vec3& x, int weights, int endpoint, const MotionSnapshot& m) const;
+  /// A segment moved by a snapshot: its start, unit axis and length [m].
+  struct MovedSegment {
+    Vec3 a, axis;
+    double length;
+  };
+  /// Segment id moved by `motion`, computed once per snapshot (and thread).
+  const MovedSegment& moved(int id, const MotionSnapshot& motion) const;
   void buildGrid();
   long cellIndex(int ix, int iy, int iz) const {
     return (static_cast<long>(iz) * dims_[1] + iy) * dims_[0] + ix;

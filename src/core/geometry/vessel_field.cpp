@@ -87,6 +87,38 @@ Vec3 VesselField::displaced(const Vec3& x, int weights, int endpoint,
   return y;
 }
 
+const VesselField::MovedSegment& VesselField::moved(int id, const MotionSnapshot& motion) const {
+  // Per thread (the model stays shareable between threads stepping their
+  // own data): the segments moved by the last snapshot this thread used
+  // with this field, each computed once per snapshot.
+  thread_local struct {
+    const VesselField* field{nullptr};
+    MotionSnapshot motion;
+    unsigned epoch{0};
+    std::vector<unsigned> stamp;
+    std::vector<MovedSegment> segments;
+  } cache;
+  if (cache.field != this || cache.motion != motion) {
+    cache.field = this;
+    cache.motion = motion;
+    if (++cache.epoch == 0 || cache.stamp.size() != segments_.size()) {
+      cache.stamp.assign(segments_.size(), 0);
+      cache.segments.resize(segments_.size());
+      cache.epoch = 1;
+    }
+  }
+  MovedSegment& m = cache.segments[id];
+  if (cache.stamp[id] != cache.epoch) {
+    const Segment& s = segments_[id];
+    m.a = displaced(s.a, s.weights, 0, motion);
+    const Vec3 ab = displaced(s.b, s.weights, 1, motion) - m.a;
+    m.length = ab.norm();  // the same arithmetic as addSegmentField's
+    m.axis = m.length > 0.0 ? Vec3(ab / m.length) : Vec3::Zero();
+    cache.stamp[id] = cache.epoch;
+  }
+  return m;
+}
+
 Vec3 VesselField::displacement(const Vec3& x, const MotionSnapshot& m) const {
   Vec3 u = Vec3::Zero();
   for (size_t k = 0; k < m.size() && k < motion_.size(); ++k)
@@ -236,8 +268,8 @@ FieldSample VesselField::evaluate(const Vec3& p, double device_radius,
         if (motion.empty()) {  // at rest: the axis and length kept
           if (s.length > 0.0) addSegmentFieldAlong(s.a, s.axis, s.length, R, p, &out);
         } else {
-          addSegmentField(displaced(s.a, s.weights, 0, motion),
-                          displaced(s.b, s.weights, 1, motion), R, p, &out);
+          const MovedSegment& m = moved(id, motion);
+          if (m.length > 0.0) addSegmentFieldAlong(m.a, m.axis, m.length, R, p, &out);
         }
       } else {
         const Sphere& s = spheres_[id - ns];
