@@ -99,6 +99,7 @@ class VesselField : public ImplicitSurface {
   }
   bool cellOf(const Vec3& p, int* ix, int* iy, int* iz) const;
 
+  long serial_{-1};  // unique per constructed field (the moved segments' cache key)
   double alpha_{0.6}, iso_{0.0}, sphere_weight_{0.0};
   std::vector<Segment> segments_;
   std::vector<Sphere> spheres_;

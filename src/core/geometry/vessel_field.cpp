@@ -1,6 +1,7 @@
 #include "endovascular_sim/geometry/vessel_field.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 
@@ -42,6 +43,8 @@ double segmentBoxDistance(const Vec3& a, const Vec3& b, const Eigen::AlignedBox3
 VesselField::VesselField(const Centerline& centerline, const std::vector<AneurysmSpec>& aneurysms,
                          const std::vector<MotionRegion>& motion, const VesselFieldOptions& options)
     : alpha_(options.alpha), motion_(motion) {
+  static std::atomic<long> serials{0};
+  serial_ = serials++;
   if (!(alpha_ > 0.0 && alpha_ < 1.0)) throw std::invalid_argument("alpha must lie in (0, 1)");
   iso_ = isoValueForAlpha(alpha_);
   sphere_weight_ = iso_ / std::pow(1.0 - alpha_ * alpha_, 3);
@@ -92,14 +95,14 @@ const VesselField::MovedSegment& VesselField::moved(int id, const MotionSnapshot
   // own data): the segments moved by the last snapshot this thread used
   // with this field, each computed once per snapshot.
   thread_local struct {
-    const VesselField* field{nullptr};
+    long field{-1};  // serial_ of the field (an address may be reused by another)
     MotionSnapshot motion;
     unsigned epoch{0};
     std::vector<unsigned> stamp;
     std::vector<MovedSegment> segments;
   } cache;
-  if (cache.field != this || cache.motion != motion) {
-    cache.field = this;
+  if (cache.field != serial_ || cache.motion != motion) {
+    cache.field = serial_;
     cache.motion = motion;
     if (++cache.epoch == 0 || cache.stamp.size() != segments_.size()) {
       cache.stamp.assign(segments_.size(), 0);
