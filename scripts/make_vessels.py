@@ -46,9 +46,11 @@ def catmull_rom(points, spacing):
 class Tree:
     def __init__(self):
         self.rows = []  # (id, type, x, y, z, r, parent)
+        self.names = []  # (name, id of its first point)
 
-    def vessel(self, control, r0, r1, parent, kind):
-        """Adds a vessel; returns the ids of its points."""
+    def vessel(self, control, r0, r1, parent, kind, name):
+        """Adds a vessel named `name`; returns the ids of its points."""
+        self.names.append((name, len(self.rows) + 1))
         curve = catmull_rom(control, 1.2 * min(r0, r1))
         ids = []
         total = sum(math.dist(curve[i], curve[i + 1]) for i in range(len(curve) - 1))
@@ -72,7 +74,10 @@ class Tree:
         with open(path, "w") as f:
             for line in comment.strip().splitlines():
                 f.write(f"# {line}\n")
-            f.write("# units: mm\n# id type x y z radius parent\n")
+            f.write("# units: mm\n")
+            for name, first in self.names:
+                f.write(f"# vessel: {name} {first}\n")
+            f.write("# id type x y z radius parent\n")
             for pid, kind, x, y, z, r, parent in self.rows:
                 f.write(f"{pid} {kind} {x:.3f} {y:.3f} {z:.3f} {r:.3f} {parent}\n")
 
@@ -84,33 +89,40 @@ def arch_point(theta_deg):
 
 def carotid():
     t = Tree()
-    ascending = t.vessel([(-25, 20, -60), (-25, 20, -30), arch_point(0)], 15, 14, -1, 1)
+    ascending = t.vessel([(-25, 20, -60), (-25, 20, -30), arch_point(0)], 15, 14, -1, 1, "ascending_aorta")
     arch_ctrl = [arch_point(a) for a in range(0, 181, 15)]
-    arch = t.vessel(arch_ctrl, 14, 12.5, ascending[-1], 1)
+    arch = t.vessel(arch_ctrl, 14, 12.5, ascending[-1], 1, "aortic_arch")
     descending = t.vessel([arch_point(180), (25, -20, -40), (25, -20, -100), (25, -20, -170)],
-                          12.5, 12, arch[-1], 1)
+                          12.5, 12, arch[-1], 1, "descending_aorta")
 
     def on_arch(theta):  # nearest arch point to a branch origin
         target = arch_point(theta)
         return min(arch, key=lambda pid: math.dist(t.point(pid), target))
 
-    bct = t.vessel([t.point(on_arch(55)), (-20, 13, 45), (-28, 14, 68)], 6, 6, on_arch(55), 2)
-    t.vessel([t.point(bct[-1]), (-45, 12, 74), (-70, 8, 71), (-95, 5, 62)], 4.5, 4.2, bct[-1], 3)
+    bct = t.vessel([t.point(on_arch(55)), (-20, 13, 45), (-28, 14, 68)], 6, 6, on_arch(55), 2,
+                   "brachiocephalic_trunk")
+    t.vessel([t.point(bct[-1]), (-45, 12, 74), (-70, 8, 71), (-95, 5, 62)], 4.5, 4.2, bct[-1], 3,
+             "right_subclavian")
     rcca = t.vessel([t.point(bct[-1]), (-31, 17, 105), (-33, 19, 140), (-34, 20, 172)],
-                    3.5, 3.4, bct[-1], 4)
-    t.vessel([t.point(rcca[-1]), (-36, 23, 200), (-37, 25, 240)], 2.4, 2.3, rcca[-1], 5)
-    t.vessel([t.point(rcca[-1]), (-31, 14, 195), (-29, 10, 225)], 1.9, 1.8, rcca[-1], 6)
+                    3.5, 3.4, bct[-1], 4, "right_common_carotid")
+    t.vessel([t.point(rcca[-1]), (-36, 23, 200), (-37, 25, 240)], 2.4, 2.3, rcca[-1], 5,
+             "right_internal_carotid")
+    t.vessel([t.point(rcca[-1]), (-31, 14, 195), (-29, 10, 225)], 1.9, 1.8, rcca[-1], 6,
+             "right_external_carotid")
     lcca = t.vessel([t.point(on_arch(85)), (5, 5, 70), (12, 12, 120), (14, 15, 172)],
-                    3.4, 3.3, on_arch(85), 4)
-    t.vessel([t.point(lcca[-1]), (16, 19, 205), (17, 21, 240)], 2.4, 2.3, lcca[-1], 5)
-    t.vessel([t.point(lcca[-1]), (11, 10, 198), (9, 7, 226)], 1.9, 1.8, lcca[-1], 6)
+                    3.4, 3.3, on_arch(85), 4, "left_common_carotid")
+    t.vessel([t.point(lcca[-1]), (16, 19, 205), (17, 21, 240)], 2.4, 2.3, lcca[-1], 5,
+             "left_internal_carotid")
+    t.vessel([t.point(lcca[-1]), (11, 10, 198), (9, 7, 226)], 1.9, 1.8, lcca[-1], 6,
+             "left_external_carotid")
     t.vessel([t.point(on_arch(115)), (30, -6, 55), (50, -3, 66), (80, 0, 64)], 4.5, 4.2,
-             on_arch(115), 3)
+             on_arch(115), 3, "left_subclavian")
     t.write(OUT / "carotid.swc", """
 Aortic arch with its three branches, carotid bifurcations included. Written by
 scripts/make_vessels.py (see its header for the dimensions and their sources).
 Types: 1 aorta, 2 brachiocephalic trunk, 3 subclavian, 4 common carotid,
-5 internal carotid, 6 external carotid.
+5 internal carotid, 6 external carotid. The "# vessel:" lines name the
+vessels (each starts at the point id given).
 """)
 
 
@@ -119,7 +131,7 @@ def aneurysm():
     # A C-shaped ICA (siphon-like) segment, 4.4 mm lumen, in the x-z plane.
     ctrl = [(0, 0, -40), (0, 0, -15), (4, 0, 0), (14, 0, 8), (24, 0, 4), (28, 0, -6),
             (30, 2, -25)]
-    t.vessel(ctrl, 2.2, 2.1, -1, 5)
+    t.vessel(ctrl, 2.2, 2.1, -1, 5, "internal_carotid")
     t.write(OUT / "aneurysm.swc", """
 Internal carotid segment (siphon-like C curve), 4.4 mm lumen. The saccular
 aneurysm (7 mm dome) is a sphere primitive declared in
@@ -131,7 +143,7 @@ def dead_end():
     t = Tree()
     # A straight common-carotid-sized tube (5 mm lumen), 60 mm long, closed at
     # its far end: a wire pushed on buckles and loops (stability suite).
-    t.vessel([(0, 0, -5), (0, 0, 25), (0, 0, 55)], 2.5, 2.5, -1, 4)
+    t.vessel([(0, 0, -5), (0, 0, 25), (0, 0, 55)], 2.5, 2.5, -1, 4, "dead_end_vessel")
     t.write(OUT / "dead_end.swc", """
 Straight 5 mm tube, 60 mm long, closed at its end (stability suite: a wire
 pushed into a dead end). Written by scripts/make_vessels.py.
@@ -147,7 +159,7 @@ def tortuous():
     ctrl = [(0, 0, -10), (0, 0, 15), (2, 0, 19), (5, 0, 20), (8, 0, 19), (10, 0, 15),
             (10, 0, 0), (12, 0, -4), (15, 0, -5), (18, 0, -4), (20, 0, 0), (20, 0, 15),
             (22, 0, 19), (25, 0, 20), (28, 0, 19), (30, 0, 15), (30, 0, -10)]
-    t.vessel(ctrl, 2.0, 2.0, -1, 4)
+    t.vessel(ctrl, 2.0, 2.0, -1, 4, "tortuous_vessel")
     t.write(OUT / "tortuous.swc", """
 A 4 mm vessel through four tight bends (centreline bend radius about 3 mm,
 close to the 2 mm vessel radius), for the stability suite. Written by

@@ -78,6 +78,18 @@ void addMesh(CLI::App& app, MeshOptions* o) {
       ->check(CLI::Range(0.0, 0.005));
 }
 
+void addNavigate(CLI::App& app, NavigateOptions* o) {
+  CLI::App* nav = app.add_subcommand(
+      "navigate", "the autopilot drives the devices to a named vessel; a JSON summary");
+  nav->add_option("scene", o->scene, kSceneHelp)->required();
+  nav->add_option("--target", o->target, "the vessel to reach (a name of the scene's vessels)")
+      ->required();
+  nav->add_option("--device", o->device, "whose tip must reach it (default: the innermost)");
+  nav->add_option("--timeout", o->timeout, "simulated seconds before giving up")
+      ->check(CLI::Range(0.01, 3600.0));
+  nav->add_flag("--quiet", o->json_only, "print only the JSON summary");
+}
+
 int dispatch(int argc, char** argv) {
   CLI::App app{"evsim: catheter, guidewire and coil navigation in vessels (no ROS)", "evsim"};
   app.set_version_flag("--version", std::string("evsim ") + EVSIM_VERSION);
@@ -85,17 +97,19 @@ int dispatch(int argc, char** argv) {
   RunOptions run;
   BenchOptions bench;
   MeshOptions mesh;
+  NavigateOptions navigate;
   std::string what, csv;
   double duration = 2.0;
   addRun(app, &run);
   addBench(app, &bench, &what, &duration, &csv);
   addMesh(app, &mesh);
+  addNavigate(app, &navigate);
   app.add_subcommand("list", "the shipped scenes");
   const auto known =
       app.get_subcommands([&](const CLI::App* c) { return argc > 1 && c->get_name() == argv[1]; });
   if (argc > 1 && argv[1][0] != '-' && known.empty()) {
     std::cerr << "evsim: unknown command '" << argv[1]
-              << "' (run, bench, mesh, list; evsim --help)\n";
+              << "' (run, bench, navigate, mesh, list; evsim --help)\n";
     return kExitBadInput;
   }
   try {
@@ -106,6 +120,7 @@ int dispatch(int argc, char** argv) {
   }
   if (app.got_subcommand("run")) return runScene(run);
   if (app.got_subcommand("mesh")) return meshScene(mesh);
+  if (app.got_subcommand("navigate")) return navigateScene(navigate);
   if (app.got_subcommand("list")) {
     for (const auto& s : shippedScenes()) std::cout << s << "\n";
     return kExitOk;

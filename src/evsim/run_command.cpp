@@ -74,8 +74,13 @@ int runScene(const RunOptions& o) {
       const Vec3& tip = d.position.back();
       std::cout << "t=" << data.time << " s  " << model.devices.front().name
                 << " inserted=" << d.inserted_length * 1e3 << " mm  tip=(" << tip.x() * 1e3 << ", "
-                << tip.y() * 1e3 << ", " << tip.z() * 1e3
-                << ") mm  contacts=" << data.stats.contacts << "  mean step " << wall_ms / (k + 1)
+                << tip.y() * 1e3 << ", " << tip.z() * 1e3 << ") mm";
+      if (model.atlas)
+        for (size_t i = 0; i < data.tips.size(); ++i)
+          std::cout << "  " << model.devices[i].name << " in "
+                    << model.atlas->vessels()[data.tips[i].vessel].name << " at "
+                    << data.tips[i].depth * 1e3 << " mm";
+      std::cout << "  contacts=" << data.stats.contacts << "  mean step " << wall_ms / (k + 1)
                 << " ms\n";
     }
   }

@@ -36,9 +36,28 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
     o << (i ? "," : "") << "{\"name\":\"" << model.devices[i].name << "\",\"tip\":[" << num(tip.x())
       << "," << num(tip.y()) << "," << num(tip.z()) << "],\"inserted_m\":" << num(d.inserted_length)
       << ",\"rotation_rad\":" << num(d.rotation_angle)
-      << ",\"kinetic_energy_J\":" << num(kineticEnergy(model.devices[i], d)) << "}";
+      << ",\"kinetic_energy_J\":" << num(kineticEnergy(model.devices[i], d));
+    if (model.atlas && i < data.tips.size()) {
+      const VesselLocation& where = data.tips[i];
+      o << ",\"tip_vessel\":\"" << model.atlas->vessels()[where.vessel].name
+        << "\",\"tip_depth_m\":" << num(where.depth)
+        << ",\"tip_in_lumen\":" << (where.inside ? "true" : "false");
+    }
+    o << "}";
   }
-  o << "]}";
+  o << "]";
+  if (!model.targets.empty()) {
+    o << ",\"targets\":[";
+    for (size_t k = 0; k < model.targets.size(); ++k) {
+      const TargetProgress p = k < data.targets.size() ? data.targets[k] : TargetProgress{};
+      o << (k ? "," : "") << "{\"vessel\":\"" << model.targets[k].spec.vessel
+        << "\",\"reached\":" << (p.reached ? "true" : "false")
+        << ",\"reached_time\":" << num(p.reached_time) << ",\"best_depth_m\":" << num(p.best_depth)
+        << "}";
+    }
+    o << "]";
+  }
+  o << "}";
   return o.str();
 }
 

@@ -173,6 +173,26 @@ void FramePublisher::publishDiagnostics(const FrameSnapshot& f, const LoopTiming
   s.values.push_back(keyValue("overruns (total)", static_cast<double>(timing.overruns)));
   s.values.push_back(keyValue("simulated time [s]", f.time));
   s.values.push_back(keyValue("contacts", f.stats.contacts));
+  for (size_t i = 0; f.model->atlas && i < f.tips.size(); ++i) {
+    diagnostic_msgs::KeyValue kv;
+    kv.key = f.model->devices[i].name + " tip in";
+    std::ostringstream where;
+    where << f.model->atlas->vessels()[f.tips[i].vessel].name << " at " << f.tips[i].depth * 1e3
+          << " mm";
+    kv.value = where.str();
+    s.values.push_back(kv);
+  }
+  for (size_t k = 0; k < f.targets.size() && k < f.model->targets.size(); ++k) {
+    diagnostic_msgs::KeyValue kv;
+    kv.key = "target " + f.model->targets[k].spec.vessel;
+    std::ostringstream state;
+    if (f.targets[k].reached)
+      state << "reached at t = " << f.targets[k].reached_time << " s";
+    else
+      state << "not reached (deepest " << f.targets[k].best_depth * 1e3 << " mm)";
+    kv.value = state.str();
+    s.values.push_back(kv);
+  }
   diagnostic_msgs::DiagnosticArray array;
   array.header.stamp = last_clock_;
   array.status.push_back(s);

@@ -105,6 +105,11 @@ endovascular_sim::DeviceStatusArray toDeviceStatusMsg(const FrameSnapshot& f, in
     s.tip = toPose(d.position.back(), d.rotation.back());
     s.released = d.released;
     s.driven = static_cast<int>(i) == driven;
+    if (f.model->atlas && i < f.tips.size() && f.tips[i].vessel >= 0) {
+      s.tip_vessel = f.model->atlas->vessels()[f.tips[i].vessel].name;
+      s.tip_depth = f.tips[i].depth;
+      s.tip_in_lumen = f.tips[i].inside;
+    }
     m.devices.push_back(s);
   }
   return m;

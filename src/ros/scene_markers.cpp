@@ -68,6 +68,25 @@ visualization_msgs::Marker deviceTube(const DeviceModel& model, const DeviceStat
 
 }  // namespace
 
+namespace {
+
+/// A target vessel's centreline as a thick line: amber until reached, then green.
+visualization_msgs::Marker targetMarker(const SceneModel& model, size_t k, bool reached,
+                                        const std_msgs::Header& header) {
+  const Target& target = model.targets[k];
+  const NamedVessel& v = model.atlas->vessels()[target.vessel];
+  visualization_msgs::Marker line =
+      marker(header, "targets", static_cast<int>(k), visualization_msgs::Marker::LINE_STRIP);
+  line.scale.x = std::max(0.5e-3, 0.5 * v.radius);
+  line.color = reached ? color(0.2f, 0.85f, 0.3f, 0.8f) : color(1.0f, 0.65f, 0.1f, 0.8f);
+  const int n = std::max(2, static_cast<int>(v.length / 0.002) + 1);
+  for (int i = 0; i < n; ++i)
+    line.points.push_back(toPoint(model.atlas->pointAt(target.vessel, v.length * i / (n - 1))));
+  return line;
+}
+
+}  // namespace
+
 visualization_msgs::MarkerArray sceneMarkers(const FrameSnapshot& f, const MarkerStyle& style,
                                              const std_msgs::Header& header) {
   visualization_msgs::MarkerArray array;
@@ -78,6 +97,9 @@ visualization_msgs::MarkerArray sceneMarkers(const FrameSnapshot& f, const Marke
   for (size_t i = 0; i < f.devices.size(); ++i)
     array.markers.push_back(deviceTube(f.model->devices[i], f.devices[i], static_cast<int>(i),
                                        style.tube_sides, header));
+  for (size_t k = 0; f.model->atlas && k < f.model->targets.size(); ++k)
+    array.markers.push_back(
+        targetMarker(*f.model, k, k < f.targets.size() && f.targets[k].reached, header));
   if (f.contacts.empty()) return array;
 
   visualization_msgs::Marker points =

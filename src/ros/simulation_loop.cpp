@@ -107,6 +107,8 @@ void SimulationLoop::shareState() {
   f.devices = data_.devices;
   f.contacts = data_.contacts;
   f.stats = data_.stats;
+  f.tips = data_.tips;
+  f.targets = data_.targets;
   std::lock_guard<std::mutex> status(status_mutex_);
   latest_ = std::move(f);
 }

@@ -37,7 +37,8 @@ bool says(const Outcome& o, const std::string& words) {
 TEST(EvsimCli, HelpAndVersionExitZeroAndNameTheCommands) {
   const Outcome help = evsim("--help");
   EXPECT_EQ(help.code, 0);
-  for (const char* command : {"run", "bench", "mesh", "list"}) EXPECT_TRUE(says(help, command));
+  for (const char* command : {"run", "bench", "navigate", "mesh", "list"})
+    EXPECT_TRUE(says(help, command));
   EXPECT_EQ(evsim("bench --help").code, 0);
   const Outcome version = evsim("--version");
   EXPECT_EQ(version.code, 0);
@@ -117,6 +118,31 @@ TEST(EvsimCli, AStepTheScenesOptionsCannotSolveIsRecoveredOrFailsWithStrict) {
   EXPECT_EQ(recovered.code, 0) << recovered.output;
   EXPECT_TRUE(says(recovered, "solved with the recovery options")) << recovered.output;
   fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace evsim
+
+namespace evsim {
+namespace {
+
+TEST(EvsimCli, NavigateRefusesAnUnknownTargetAndReportsAReachedOne) {
+  const Outcome typo = evsim("navigate arch_navigation --target left_subclavain");
+  EXPECT_EQ(typo.code, 2);
+  EXPECT_TRUE(says(typo, "nearest: left_subclavian")) << typo.output;
+  const Outcome missing = evsim("navigate arch_navigation");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_TRUE(says(missing, "--target")) << missing.output;
+  // Out of time before the arch: "not reached", with the reason, exit 1.
+  const Outcome early = evsim("navigate arch_navigation --target left_subclavian --timeout 0.2");
+  EXPECT_EQ(early.code, 1) << early.output;
+  EXPECT_TRUE(says(early, "\"reached\":false")) << early.output;
+  EXPECT_TRUE(says(early, "\"reason\":\"out of time\"")) << early.output;
+  const Outcome reached = evsim("navigate arch_navigation --target left_subclavian --quiet");
+  EXPECT_EQ(reached.code, 0) << reached.output;
+  EXPECT_TRUE(says(reached, "\"reached\":true")) << reached.output;
+  EXPECT_TRUE(says(reached, "\"failed_steps\":0")) << reached.output;
+  EXPECT_TRUE(says(reached, "\"final_vessel\":\"left_subclavian\"")) << reached.output;
 }
 
 }  // namespace

@@ -66,6 +66,17 @@ class Loader : public ::testing::Test {
     return path;
   }
 
+  /// kScene in the carotid tree's vessels, its wire entering at `access`
+  /// (written as wire.urdf).
+  std::string carotidScene(const std::string& access) {
+    write("wire.urdf", kDevice);
+    std::string text = kScene;
+    text.replace(text.find("devices:"), 8,
+                 "vessels: {centerline: " + configDirectory() + "/vessels/carotid.swc}\ndevices:");
+    text.replace(text.find("access_point: [0, 0, 0]"), 23, "access_point: " + access);
+    return text;
+  }
+
   /// Writes `text` with `from` replaced by `to` as `name`, loads it with
   /// `load`, returns the error.
   template <typename Load>
@@ -253,11 +264,7 @@ TEST_F(Loader, AnElementLengthThatWouldExhaustMemoryIsRefused) {
 TEST_F(Loader, AnAccessPointOutsideTheVesselsIsRefusedWithItsDistance) {
   // The carotid tree's descending aorta (radius 12 mm, its axis at x = 25
   // mm): 15 mm out along x, the point is about 3 mm beyond its wall.
-  write("wire.urdf", kDevice);
-  std::string text = kScene;
-  text.replace(text.find("devices:"), 8,
-               "vessels: {centerline: " + configDirectory() + "/vessels/carotid.swc}\ndevices:");
-  text.replace(text.find("access_point: [0, 0, 0]"), 23, "access_point: [0.040, -0.02, -0.13]");
+  const std::string text = carotidScene("[0.040, -0.02, -0.13]");
   const SceneSpec spec = loadSceneFile(write("scene.yaml", text));
   try {
     buildSceneModel(spec);
@@ -428,6 +435,35 @@ TEST(CoaxialLoader, AnInnerDeviceHasNoAccessPointOfItsOwn) {
   const LoadError e =
       coaxialSceneError("inside: catheter", "inside: catheter\n    access_point: [0, 0, 0]");
   EXPECT_EQ(e.field(), "devices[1].access_point");
+}
+
+}  // namespace
+}  // namespace evsim
+
+namespace evsim {
+namespace {
+
+TEST_F(Loader, ATargetMustNameAVesselOfTheScene) {
+  std::string text = carotidScene("[0.025, -0.02, -0.13]");
+  text += "targets:\n  - left_subclavian\n  - {vessel: left_comon_carotid, device: wire}\n";
+  const SceneSpec spec = loadSceneFile(write("scene.yaml", text));
+  ASSERT_EQ(spec.targets.size(), 2u);
+  try {
+    buildSceneModel(spec);
+    ADD_FAILURE() << "accepted";
+  } catch (const LoadError& e) {
+    EXPECT_EQ(e.line(), 15) << e.what();
+    EXPECT_EQ(e.field(), "targets[1]");
+    EXPECT_NE(std::string(e.what()).find("nearest: left_common_carotid"), std::string::npos)
+        << e.what();
+  }
+  // A depth out of range, or an unknown device, is refused at load.
+  std::string deep = text;
+  deep.replace(deep.find("device: wire}"), 13, "device: wire, depth: 5}");
+  EXPECT_THROW(loadSceneFile(write("deep.yaml", deep)), LoadError);
+  std::string other = text;
+  other.replace(other.find("device: wire}"), 13, "device: coil}");
+  EXPECT_THROW(loadSceneFile(write("other.yaml", other)), LoadError);
 }
 
 }  // namespace

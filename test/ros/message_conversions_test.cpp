@@ -7,6 +7,7 @@
 
 #include <memory>
 
+#include "endovascular_sim/geometry/centerline.h"
 #include "endovascular_sim/ros/scene_markers.h"
 
 namespace evsim {
@@ -40,6 +41,49 @@ TEST(ContactMessage, CarriesTheFrictionForceAndTheLumenFlag) {
   EXPECT_EQ(m.contacts[1].other_device, "catheter");
   EXPECT_TRUE(m.contacts[1].lumen);
   EXPECT_DOUBLE_EQ(m.contacts[1].normal.y, 1.0);
+}
+
+TEST(DeviceStatusMessage, NamesTheVesselEachTipIsIn) {
+  // The carotid scene's wire starts in the descending aorta: 120 mm
+  // inserted up from z = -130 mm, its 180-degree J (10 mm of wire) curled
+  // back, so the tip ends 20 mm below the arch's end at z = 0.
+  FrameSnapshot frame;
+  frame.model = std::make_shared<const SceneModel>(loadScene("carotid"));
+  const SimData data = makeData(*frame.model);
+  frame.devices = data.devices;
+  frame.tips = data.tips;
+  const auto m = toDeviceStatusMsg(frame, 0, std_msgs::Header());
+  ASSERT_EQ(m.devices.size(), 1u);
+  EXPECT_EQ(m.devices[0].tip_vessel, "descending_aorta");
+  EXPECT_NEAR(m.devices[0].tip_depth, 0.020, 0.001);
+  EXPECT_TRUE(m.devices[0].tip_in_lumen);
+}
+
+TEST(SceneMarkers, TargetsAreDrawnAlongTheirVesselAmberThenGreen) {
+  FrameSnapshot frame;
+  frame.model = std::make_shared<const SceneModel>(loadScene("arch_navigation"));
+  const SimData data = makeData(*frame.model);
+  frame.devices = data.devices;
+  frame.targets = data.targets;
+  auto targets = [&]() {
+    std::vector<visualization_msgs::Marker> out;
+    for (const auto& m : sceneMarkers(frame, MarkerStyle{}, {}).markers)
+      if (m.ns == "targets") out.push_back(m);
+    return out;
+  };
+  const auto before = targets();
+  ASSERT_EQ(before.size(), frame.model->targets.size());
+  // The first target's line runs from the left common carotid's origin on
+  // the arch to its end (the SWC's last point of that vessel).
+  const Centerline c = loadCenterlineFile(configDirectory() + "/vessels/carotid.swc");
+  int last = -1;
+  for (int i = 0; i < c.numPoints(); ++i)
+    if (c.vessel_names[c.vessel[i]] == "left_common_carotid") last = i;
+  const auto& end = before[0].points.back();
+  EXPECT_NEAR((Vec3(end.x, end.y, end.z) - c.position[last]).norm(), 0.0, 1e-9);
+  EXPECT_GT(before[0].color.r, before[0].color.g);  // amber
+  frame.targets[0].reached = true;
+  EXPECT_GT(targets()[0].color.g, targets()[0].color.r);  // green
 }
 
 /// Triangles of the tube marker of device `i` (namespace "devices", id i).

@@ -4,6 +4,11 @@
 // a root); '#' starts a comment. A header comment "# units: mm" (or m, um)
 // states the unit of x, y, z and radius; otherwise the caller's default
 // applies. Each point with a parent makes one segment (parent -> point).
+//
+// Named vessels: a header comment "# vessel: NAME ID" says that the vessel
+// NAME (snake_case) starts at point ID; every point belongs to the vessel of
+// its nearest ancestor (itself included) that starts one. A root no line
+// names starts a vessel "vessel_ID".
 #pragma once
 
 #include <string>
@@ -18,12 +23,22 @@ struct Centerline {
   std::vector<double> radius;  // lumen radius [m]
   std::vector<int> parent;     // index of the parent point, -1 for roots
   std::vector<int> type;       // SWC type (free use: region labels)
+  std::vector<int> vessel;     // index into vessel_names per point (see nameVessels)
+  std::vector<std::string> vessel_names;
 
   int numPoints() const { return static_cast<int>(position.size()); }
   int numSegments() const;
   /// Appends another centreline (indices shifted).
   void append(const Centerline& other);
 };
+
+/// Completes `vessel` for points without one (a centreline built by hand,
+/// or points appended): a point takes its parent's vessel, a root without
+/// one starts "vessel_<index + 1>".
+void nameVessels(Centerline* centerline);
+
+/// True for a valid vessel name: [a-z][a-z0-9_]*.
+bool isVesselName(const std::string& name);
 
 /// Reads an SWC file; default_unit [m per file unit] applies when the file
 /// has no "# units:" header. Throws LoadError naming the file and line.

@@ -32,7 +32,8 @@ struct NetworkOptions {
 };
 
 /// Adds the generated network to `base` (its leaves are the roots of the
-/// growth). Generated points get SWC type 7. Returns the number of vessels
+/// growth). Generated points get SWC type 7; a generated vessel is named
+/// after its parent with "_1" (the larger daughter) or "_2" appended. Returns the number of vessels
 /// added.
 int growNetwork(const NetworkOptions& options, Centerline* base);
 

@@ -17,7 +17,9 @@ struct FrameSnapshot {
   std::vector<DeviceState> devices;
   std::vector<Contact> contacts;
   StepStats stats;
-  MotionSnapshot motion;  // of the vessels at `time` (empty when they do not move)
+  std::vector<VesselLocation> tips;     // per device: the named vessel its tip is in
+  std::vector<TargetProgress> targets;  // per scene target
+  MotionSnapshot motion;                // of the vessels at `time` (empty when they do not move)
 };
 
 /// Timing of the simulation loop, as the diagnostics and stats report it.

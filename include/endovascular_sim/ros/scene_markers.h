@@ -18,8 +18,10 @@ struct MarkerStyle {
   int tube_sides{8};         // polygon of a device tube's cross-section
 };
 
-/// Namespaces: "devices" (one tube per device), "contacts" (points),
-/// "forces" (an arrow per contact with a force), "tangent_planes" (quads).
+/// Namespaces: "devices" (one tube per device), "targets" (each target
+/// vessel's centreline, amber until reached, then green), "contacts"
+/// (points), "forces" (an arrow per contact with a force), "tangent_planes"
+/// (quads).
 /// The array starts with a DELETEALL so that vanished contacts disappear.
 visualization_msgs::MarkerArray sceneMarkers(const FrameSnapshot& frame, const MarkerStyle& style,
                                              const std_msgs::Header& header);

@@ -29,6 +29,15 @@ struct DevicePlacementSpec {
   int access_point_line{0};  // the scene file's line of access_point (0: none)
 };
 
+/// A navigation target (`targets:`; see sim/targets.h).
+struct TargetSpec {
+  std::string vessel;  // a vessel name of the scene's centreline
+  std::string device;  // whose tip counts ("": any device)
+  double depth{0.02};  // [m] past the vessel's origin
+  double dwell{0.5};   // [s] the tip stays there
+  int line{0};         // the scene file's line (errors)
+};
+
 struct ScriptedCommand {
   double time{0.0};  // [s] from the start
   int device{0};     // index into the scene's devices
@@ -59,6 +68,7 @@ struct SceneSpec {
   ContactOptions contact;
   std::vector<DevicePlacementSpec> devices;
   std::vector<ScriptedCommand> script;  // sorted by time
+  std::vector<TargetSpec> targets;  // navigation targets (checked against the vessels when built)
   /// Length of the scripted procedure [s]: what `evsim bench` and the
   /// node's benchmark run by default. The file's `duration`, else the last
   /// command's time + 1 s (at least 1 s).

@@ -20,6 +20,7 @@
 #include "endovascular_sim/mechanics/implicit_euler.h"
 #include "endovascular_sim/mechanics/introducer.h"
 #include "endovascular_sim/scene/scene_file.h"
+#include "endovascular_sim/sim/targets.h"
 
 namespace evsim {
 
@@ -54,6 +55,8 @@ struct SceneModel {
   Vec3 gravity{0.0, 0.0, 0.0};                     // [m/s^2]; zero unless the effect is on
   std::shared_ptr<const VesselField> vessels;      // null: free space
   std::shared_ptr<const ImplicitSurface> surface;  // what contacts are solved against
+  std::shared_ptr<const VesselAtlas> atlas;        // the named vessels (null: free space)
+  std::vector<Target> targets;                     // the scene's navigation targets
   ContactOptions contact;
   std::vector<std::vector<SamplePoint>> samples;  // contact sample points per device
   std::vector<DeviceModel> devices;
@@ -104,7 +107,9 @@ struct SimData {
   size_t next_script_entry{0};
   StepStats stats;
   EffectCounters effect_calls;
-  std::string last_error;  // why the last failed step was rejected
+  std::vector<VesselLocation> tips;     // per device: where its distal tip is (with vessels)
+  std::vector<TargetProgress> targets;  // per scene target
+  std::string last_error;               // why the last failed step was rejected
   std::vector<std::string>
       notices;  // scripted commands refused, drives at a limit (runners print and clear them)
 };
@@ -133,6 +138,14 @@ std::string detachDevice(const SceneModel& model, SimData* data, const std::stri
 /// Sets a device's drive command; returns why it was refused ("" if accepted).
 std::string setCommand(const SceneModel& model, SimData* data, const std::string& device,
                        const DriveCommand& command);
+
+/// Where a point [m] is among the scene's named vessels at the data's time
+/// (moving vessels: the point is taken back to the vessels' rest position).
+VesselLocation locateInVessels(const SceneModel& model, const SimData& data, const Vec3& p);
+
+/// Recomputes data->tips and the targets' progress at data->time (step()
+/// does it after every step; call it after changing the state by hand).
+void locateTips(const SceneModel& model, SimData* data);
 
 /// Advances the simulation by model.time_step. On failure the previous state
 /// is kept and data->last_error says why; no NaN ever reaches the state.

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 
 #include "friction_local.h"
 
@@ -22,6 +23,11 @@ namespace {
 constexpr int kMemory = 10;
 constexpr int kMaxHalvings = 30;
 constexpr double kSufficientDecrease = 1e-4;
+/// Newton steps without a new best residual after which it gives up (the
+/// caller then tries its other start, or the step is subdivided): each step
+/// costs a dense solve, and a stalled Newton otherwise spends its whole
+/// budget (seen: minutes on a wire in a catheter at an ostium).
+constexpr int kStallSteps = 60;
 
 /// The Alart-Curnier function of one contact and its derivative: with
 /// v = r - rho u (rho = diag(rho_n, rho_t, rho_t)),
@@ -139,13 +145,19 @@ LcpStatus solveNewton(const MatXView& W, const VecX& q, const VecX& mu,
   NewtonSolver newton(W, mu, eps);
   VecX u(n), phi(n), trial(n), trial_u(n), trial_phi(n);
   std::deque<double> recent;  // |phi|^2 of the last kMemory iterates
+  double best = std::numeric_limits<double>::infinity();
+  int best_step = 0;
   for (int k = 0;; ++k) {
     u.noalias() = W * (*r);
     u += q;
     st->residual = residualAt(q, mu, *r, u);
     if (!std::isfinite(st->residual)) return LcpStatus::kFailed;
     if (st->residual <= tolerance) return LcpStatus::kSolved;
-    if (k == max_steps) return LcpStatus::kIterationLimit;
+    if (st->residual < 0.5 * best) {
+      best = st->residual;
+      best_step = k;
+    }
+    if (k == max_steps || k - best_step > kStallSteps) return LcpStatus::kIterationLimit;
     ++st->sweeps;
     newton.evaluate(*r, u, &phi, /*derivatives=*/true);
     const double merit = phi.squaredNorm();

@@ -1,5 +1,6 @@
 #include "endovascular_sim/geometry/centerline.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -18,11 +19,54 @@ int Centerline::numSegments() const {
 
 void Centerline::append(const Centerline& other) {
   const int offset = numPoints();
+  const int name_offset = static_cast<int>(vessel_names.size());
+  nameVessels(this);
+  Centerline named = other;
+  nameVessels(&named);
   for (int i = 0; i < other.numPoints(); ++i) {
     position.push_back(other.position[i]);
     radius.push_back(other.radius[i]);
     parent.push_back(other.parent[i] < 0 ? -1 : other.parent[i] + offset);
     type.push_back(other.type[i]);
+    vessel.push_back(named.vessel[i] + name_offset);
+  }
+  for (const std::string& name : named.vessel_names) {
+    std::string unique = name;
+    for (int k = 2;
+         std::find(vessel_names.begin(), vessel_names.end(), unique) != vessel_names.end(); ++k)
+      unique = name + "_" + std::to_string(k);
+    vessel_names.push_back(unique);
+  }
+}
+
+bool isVesselName(const std::string& name) {
+  if (name.empty() || !(name[0] >= 'a' && name[0] <= 'z')) return false;
+  for (char ch : name)
+    if (!((ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '_')) return false;
+  return true;
+}
+
+void nameVessels(Centerline* c) {
+  const int n = c->numPoints();
+  c->vessel.resize(n, -1);
+  for (int i = 0; i < n; ++i) {
+    if (c->vessel[i] >= 0) continue;
+    std::vector<int> walk;  // up to a point with a vessel, or a root
+    int j = i;
+    while (j >= 0 && c->vessel[j] < 0 && static_cast<int>(walk.size()) <= n) {
+      walk.push_back(j);
+      j = c->parent[j];
+    }
+    int v = j >= 0 ? c->vessel[j] : -1;
+    if (v < 0) {  // a root without a name
+      std::string name = "vessel_" + std::to_string(walk.back() + 1);
+      while (std::find(c->vessel_names.begin(), c->vessel_names.end(), name) !=
+             c->vessel_names.end())
+        name += "_";
+      v = static_cast<int>(c->vessel_names.size());
+      c->vessel_names.push_back(name);
+    }
+    for (int k : walk) c->vessel[k] = v;
   }
 }
 
@@ -47,6 +91,12 @@ Centerline loadCenterlineFile(const std::string& path, double default_unit) {
     double r;
   };
   std::vector<Row> rows;
+  struct VesselStart {
+    std::string name;
+    long id;
+    int line;
+  };
+  std::vector<VesselStart> starts;
   double unit = default_unit;
   std::string text;
   int line = 0;
@@ -58,6 +108,23 @@ Centerline loadCenterlineFile(const std::string& path, double default_unit) {
       std::istringstream comment(text.substr(hash + 1));
       std::string key, value;
       if (comment >> key >> value && key == "units:") unit = unitFromName(value, path, line);
+      if (key == "vessel:") {
+        std::string id_text, rest;
+        comment >> id_text;
+        char* end = nullptr;
+        const long id = std::strtol(id_text.c_str(), &end, 10);
+        if (!isVesselName(value))
+          throw LoadError(path, line, "vessel",
+                          "'" + value + "' is not a vessel name (snake_case: [a-z][a-z0-9_]*)");
+        if (id_text.empty() || *end != '\0' || (comment >> rest))
+          throw LoadError(path, line, "vessel", "needs '# vessel: NAME ID' (ID: its first point)");
+        for (const VesselStart& v : starts)
+          if (v.name == value)
+            throw LoadError(
+                path, line, "vessel",
+                "'" + value + "' is named twice (also on line " + std::to_string(v.line) + ")");
+        starts.push_back({value, id, line});
+      }
       text = text.substr(0, hash);
     }
     std::istringstream fields(text);
@@ -106,6 +173,18 @@ Centerline loadCenterlineFile(const std::string& path, double default_unit) {
     c.parent.push_back(parent);
     c.type.push_back(r.type);
   }
+  c.vessel.assign(c.numPoints(), -1);
+  for (const VesselStart& v : starts) {
+    const auto it = index.find(v.id);
+    if (it == index.end())
+      throw LoadError(path, v.line, "vessel", "no point with id " + std::to_string(v.id));
+    if (c.vessel[it->second] >= 0)
+      throw LoadError(path, v.line, "vessel",
+                      "point " + std::to_string(v.id) + " already starts vessel '" +
+                          c.vessel_names[c.vessel[it->second]] + "'");
+    c.vessel[it->second] = static_cast<int>(c.vessel_names.size());
+    c.vessel_names.push_back(v.name);
+  }
   // Cycles: follow parents; a walk longer than the point count loops.
   std::vector<char> state(c.numPoints(), 0);  // 0 unseen, 1 on the current walk, 2 done
   for (int i = 0; i < c.numPoints(); ++i) {
@@ -121,6 +200,7 @@ Centerline loadCenterlineFile(const std::string& path, double default_unit) {
                       "the parents form a cycle through id " + std::to_string(rows[j].id));
     for (int k : walk) state[k] = 2;
   }
+  nameVessels(&c);
   return c;
 }
 
@@ -128,7 +208,15 @@ void saveCenterlineFile(const Centerline& c, const std::string& path, const std:
   std::ofstream out(path);
   std::istringstream lines(comment);
   for (std::string l; std::getline(lines, l);) out << "# " << l << "\n";
-  out << "# units: mm\n# id type x y z radius parent\n";
+  out << "# units: mm\n";
+  Centerline named = c;
+  nameVessels(&named);
+  for (int i = 0; i < named.numPoints(); ++i) {
+    const int p = named.parent[i];
+    if (p < 0 || named.vessel[p] != named.vessel[i])
+      out << "# vessel: " << named.vessel_names[named.vessel[i]] << " " << i + 1 << "\n";
+  }
+  out << "# id type x y z radius parent\n";
   char buf[160];
   for (int i = 0; i < c.numPoints(); ++i) {
     const Vec3 x = 1e3 * c.position[i];

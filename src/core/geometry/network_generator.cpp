@@ -86,12 +86,14 @@ struct Tip {
   double r;     // [m]
   int vessel;   // id of the vessel ending here
   int sibling;  // id of its sibling (-1 for roots)
+  int named;    // index of its name in Centerline::vessel_names
 };
 
 }  // namespace
 
 int growNetwork(const NetworkOptions& options, Centerline* c) {
   Uniform uni(options.seed);
+  nameVessels(c);
   SegmentHash hash(4e-3);
   std::vector<int> children(c->numPoints(), 0);
   for (int i = 0; i < c->numPoints(); ++i)
@@ -107,14 +109,16 @@ int growNetwork(const NetworkOptions& options, Centerline* c) {
     if (children[i] != 0 || c->parent[i] < 0) continue;
     if (options.only_type >= 0 && c->type[i] != options.only_type) continue;
     const Vec3 dir = (c->position[i] - c->position[c->parent[i]]).normalized();
-    queue.push_back({i, dir, dir.unitOrthogonal(), c->radius[i], -2 - c->type[i], -1});
+    queue.push_back(
+        {i, dir, dir.unitOrthogonal(), c->radius[i], -2 - c->type[i], -1, c->vessel[i]});
   }
 
-  auto addPoint = [&](const Vec3& p, double r, int parent) {
+  auto addPoint = [&](const Vec3& p, double r, int parent, int named) {
     c->position.push_back(p);
     c->radius.push_back(r);
     c->parent.push_back(parent);
     c->type.push_back(7);
+    c->vessel.push_back(named);
     return c->numPoints() - 1;
   };
 
@@ -164,11 +168,13 @@ int growNetwork(const NetworkOptions& options, Centerline* c) {
       next_vessel += 2;
       for (int k = 0; k < 2; ++k) {
         const Child& ch = kids[k];
-        const int pm = addPoint(ch.m, ch.r, tip.point);
-        const int pb = addPoint(ch.b, ch.r, pm);
+        const int named = static_cast<int>(c->vessel_names.size());
+        c->vessel_names.push_back(c->vessel_names[tip.named] + (k == 0 ? "_1" : "_2"));
+        const int pm = addPoint(ch.m, ch.r, tip.point, named);
+        const int pb = addPoint(ch.b, ch.r, pm, named);
         hash.add(ch.a, ch.m, ch.r, ids[k]);
         hash.add(ch.m, ch.b, ch.r, ids[k]);
-        queue.push_back({pb, ch.dir, plane, ch.r, ids[k], ids[1 - k]});
+        queue.push_back({pb, ch.dir, plane, ch.r, ids[k], ids[1 - k], named});
       }
       added += 2;
       done = true;

@@ -306,13 +306,47 @@ const std::vector<std::string>& knownEffects() {
 
 namespace {
 
+/// `targets:` a list of vessel names, or of maps {vessel, device, depth, dwell}.
+std::vector<TargetSpec> readTargets(const YamlReader& r, const YAML::Node& list,
+                                    const SceneSpec& s) {
+  if (!list.IsSequence()) r.fail(list, "targets", "must be a list of vessel names or maps");
+  if (!s.vessels.present) r.fail(list, "targets", "needs vessels");
+  std::vector<TargetSpec> out;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string p = "targets[" + std::to_string(i) + "]";
+    const YAML::Node n = list[i];
+    TargetSpec t;
+    t.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
+    if (n.IsScalar()) {
+      t.vessel = r.text(n, p);
+    } else {
+      r.keys(n, p, {"vessel", "device", "depth", "dwell"});
+      t.vessel = r.text(r.required(n, "vessel", p + ".vessel"), p + ".vessel");
+      if (n["device"]) {
+        t.device = r.text(n["device"], p + ".device");
+        bool known = false;
+        for (const auto& d : s.devices) known = known || d.device.name == t.device;
+        if (!known) r.fail(n["device"], p + ".device", "no device '" + t.device + "' in the scene");
+      }
+      t.depth = r.number(n, "depth", p + ".", t.depth);
+      if (!(t.depth >= 0.0 && t.depth <= 1.0))
+        r.fail(n["depth"], p + ".depth", "must lie in [0, 1] m");
+      t.dwell = r.number(n, "dwell", p + ".", t.dwell);
+      if (!(t.dwell >= 0.0 && t.dwell <= 60.0))
+        r.fail(n["dwell"], p + ".dwell", "must lie in [0, 60] s");
+    }
+    out.push_back(t);
+  }
+  return out;
+}
+
 SceneSpec readSceneFile(const std::string& path) {
   const YamlReader r(path);
   const YAML::Node root = r.load();
   if (!root.IsMap()) r.fail(root, "", "a scene is a YAML map");
   r.keys(root, "",
          {"name", "description", "time_step", "duration", "effects", "gravity", "vessels",
-          "contact", "devices", "script"});
+          "contact", "devices", "script", "targets"});
   SceneSpec s;
   s.file = path;
   s.name = r.text(r.required(root, "name", "name"), "name");
@@ -378,6 +412,7 @@ SceneSpec readSceneFile(const std::string& path) {
         s.script.begin(), s.script.end(),
         [](const ScriptedCommand& a, const ScriptedCommand& b) { return a.time < b.time; });
   }
+  if (root["targets"]) s.targets = readTargets(r, root["targets"], s);
   s.duration = std::max(1.0, (s.script.empty() ? 0.0 : s.script.back().time) + 1.0);
   if (root["duration"]) {
     s.duration = r.number(root["duration"], "duration");

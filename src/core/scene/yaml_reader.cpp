@@ -6,6 +6,7 @@
 #include <set>
 #include <vector>
 
+#include "endovascular_sim/core/edit_distance.h"
 #include "endovascular_sim/core/load_error.h"
 
 namespace evsim {
@@ -62,26 +63,6 @@ std::string YamlReader::text(const YAML::Node& n, const std::string& field) cons
   if (!n.IsScalar()) fail(n, field, "must be a string");
   return n.as<std::string>();
 }
-
-namespace {
-
-/// Edit distance between two keys (insertions, deletions, substitutions).
-size_t editDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t next = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-      diagonal = row[j];
-      row[j] = next;
-    }
-  }
-  return row[b.size()];
-}
-
-}  // namespace
 
 void YamlReader::keys(const YAML::Node& n, const std::string& field,
                       std::initializer_list<const char*> allowed) const {

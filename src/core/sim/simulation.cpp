@@ -207,7 +207,73 @@ void checkAccessPoints(const SceneSpec& spec, const VesselField* vessels) {
   }
 }
 
+/// The scene's targets against its vessels and devices: an unknown vessel,
+/// one narrower than the device that must reach it, or one not connected to
+/// the device's access point is refused with what exists.
+std::vector<Target> resolveTargets(const SceneSpec& spec, const VesselAtlas* atlas) {
+  std::vector<Target> out;
+  for (size_t k = 0; k < spec.targets.size(); ++k) {
+    const TargetSpec& t = spec.targets[k];
+    const std::string field = "targets[" + std::to_string(k) + "]";
+    auto fail = [&](const std::string& why) { throw LoadError(spec.file, t.line, field, why); };
+    if (!atlas) fail("a target needs vessels");
+    Target target{t, atlas->find(t.vessel), -1};
+    if (target.vessel < 0) {
+      std::string near;
+      for (const std::string& n : atlas->closestNames(t.vessel))
+        near += (near.empty() ? "" : ", ") + n;
+      fail("no vessel '" + t.vessel + "' in the scene (" + std::to_string(atlas->vessels().size()) +
+           " named vessels; nearest: " + near + ")");
+    }
+    for (size_t i = 0; i < spec.devices.size(); ++i)
+      if (spec.devices[i].device.name == t.device) target.device = static_cast<int>(i);
+    // Every device that may reach it: it must fit and start connected to it.
+    for (size_t i = 0; i < spec.devices.size(); ++i) {
+      if (target.device >= 0 && target.device != static_cast<int>(i)) continue;
+      const DevicePlacementSpec& d = spec.devices[i];
+      const double tip_radius = d.device.sections.back().section.outer_radius;
+      const NamedVessel& v = atlas->vessels()[target.vessel];
+      if (v.radius <= tip_radius) {
+        std::ostringstream why;
+        why << "vessel '" << t.vessel << "' narrows to " << v.radius * 1e3
+            << " mm radius, the tip of device '" << d.device.name << "' is " << tip_radius * 1e3
+            << " mm: the lumen is closed to it";
+        fail(why.str());
+      }
+      const DevicePlacementSpec& entry = d.outer >= 0 ? spec.devices[d.outer] : d;
+      const int start = atlas->locate(entry.introducer.access_point).vessel;
+      if (atlas->path(start, target.vessel).empty())
+        fail("vessel '" + t.vessel + "' is not connected to vessel '" +
+             atlas->vessels()[start].name + "', where device '" + d.device.name + "' enters");
+    }
+    out.push_back(target);
+  }
+  return out;
+}
+
 }  // namespace
+
+void locateTips(const SceneModel& model, SimData* data) {
+  if (!model.atlas) return;
+  data->tips.resize(data->devices.size());
+  std::vector<std::string> names;
+  for (size_t i = 0; i < data->devices.size(); ++i) {
+    data->tips[i] = locateInVessels(model, *data, data->devices[i].position.back());
+    names.push_back(model.devices[i].name);
+  }
+  if (model.targets.empty()) return;
+  for (std::string& notice :
+       updateTargets(model.targets, data->tips, names, *model.atlas, data->time, &data->targets))
+    data->notices.push_back(std::move(notice));
+}
+
+VesselLocation locateInVessels(const SceneModel& model, const SimData& data, const Vec3& p) {
+  if (!model.atlas) return {};
+  if (!model.effects.vessel_motion || !model.vessels || !model.vessels->moves())
+    return model.atlas->locate(p);
+  const MotionSnapshot motion = model.vessels->motionAt(data.time);
+  return model.atlas->locate(p - model.vessels->displacement(p, motion));
+}
 
 SceneModel buildSceneModel(const SceneSpec& spec) {
   checkSceneLimits(spec);
@@ -230,11 +296,16 @@ SceneModel buildSceneModel(const SceneSpec& spec) {
       m.effects.coaxial = true;
   if (m.effects.gravity) m.gravity = spec.gravity;
   if (spec.vessels.present) {
+    const Centerline centerline = buildCenterline(spec.vessels);
     m.vessels = std::make_shared<const VesselField>(
-        buildVesselField(spec.vessels, m.effects.vessel_motion));
+        centerline, spec.vessels.aneurysms,
+        m.effects.vessel_motion ? spec.vessels.motion : std::vector<MotionRegion>{},
+        spec.vessels.field);
     m.surface = m.vessels;
+    m.atlas = std::make_shared<const VesselAtlas>(centerline);
   }
   checkAccessPoints(spec, m.vessels.get());
+  m.targets = resolveTargets(spec, m.atlas.get());
   m.contact = spec.contact;
   m.contact.friction = m.effects.friction;
   for (const auto& d : spec.devices) {
@@ -269,6 +340,7 @@ SimData makeData(const SceneModel& model) {
   }
   d.commands.assign(n, DriveCommand{});
   d.workspaces = std::vector<DeviceWorkspace>(n);
+  locateTips(model, &d);
   return d;
 }
 
@@ -343,6 +415,7 @@ StepStatus step(const SceneModel& model, SimData* data) {
     data->time = t_end;  // no drift from summed halves
     ++data->step;
     noteDriveLimits(model, inserted, data);
+    locateTips(model, data);
   }
   data->stats.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   return status;

@@ -227,6 +227,8 @@ void loadState(const SceneModel& model, const std::string& path, SimData* data) 
   data->time = next.time;
   data->step = next.step;
   data->next_script_entry = next.next_script_entry;
+  data->targets.clear();  // progress is not saved: it restarts at the loaded state
+  locateTips(model, data);
 }
 
 }  // namespace evsim

@@ -1,0 +1,127 @@
+// A navigation baseline: drives insertion and rotation of a device (or a
+// guidewire inside a catheter) to a named vessel using only what a
+// clinician sees on the screen: the devices' shapes and the vessels'
+// centrelines, never the contact forces.
+//
+// It plans the vessels from the tip to the target (VesselAtlas::path). At
+// every control tick it turns the bent tip towards the next vessel of the
+// path as the tip nears its ostium, and away from the ostia of vessels off
+// the path; it advances when aimed, pulls back past the junction and tries
+// again when the tip has entered a wrong vessel or has slid past the ostium,
+// and lets the outer device (a catheter) follow the inner one at a fixed
+// lag. It stops when the tip has been `depth` inside the target for `dwell`
+// seconds, or ends "not reached" with the reason (retries exhausted, stuck,
+// out of time).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "endovascular_sim/sim/simulation.h"
+
+namespace evsim {
+
+struct AutopilotOptions {
+  double control_period{0.02};     // [s] between decisions
+  double advance_speed{0.03};      // [m/s] insertion while aimed
+  double retract_speed{0.03};      // [m/s]
+  double rotation_gain{4.0};       // proximal rotation speed per radian of aim error [1/s]
+  double aim_tolerance{0.45};      // [rad] aim error below which it advances near an ostium
+  double approach_distance{0.02};  // [m] beyond the parent's radius: aiming starts there
+  double follow_lag{0.03};         // [m] the outer device's tip stays this far behind the inner's
+  double depth{0.02};              // [m] inside the target: reached (with dwell)
+  double dwell{0.5};               // [s]
+  int max_retries{12};
+  double stuck_time{3.0};  // [s] without progress along the path: pull back, retry
+  double timeout{90.0};    // [s] of simulated time
+};
+
+enum class AutopilotPhase { kAdvance, kAim, kRetract, kDwell, kReached, kFailed };
+const char* phaseName(AutopilotPhase phase);
+
+/// A summary: what `evsim navigate` prints and the NavigateTo action returns.
+struct AutopilotReport {
+  bool reached{false};
+  std::string reason;  // why not reached ("" when reached)
+  double time{0.0};    // [s] simulated, from the start of the run
+  int retries{0};
+  double peak_wall_force{0.0};  // [N] the largest contact force on a wall (or device)
+  long failed_steps{0};
+  double remaining_path{0.0};  // [m] along the centrelines, at the end
+};
+
+class Autopilot {
+ public:
+  /// Throws LoadError (naming the scene file and what exists) for an unknown
+  /// target, one not connected to the device's access point, one narrower
+  /// than the device, or a scene without vessels. `device` names the device
+  /// that must reach it ("": the innermost device of the first chain).
+  Autopilot(const SceneModel& model, const SimData& data, const std::string& target,
+            const std::string& device = "", const AutopilotOptions& options = {});
+
+  /// Sets the drive commands for the next steps; call before every step.
+  /// Returns a line when the phase changes ("" otherwise).
+  std::string control(const SceneModel& model, SimData* data);
+  /// After every step: its outcome (failed steps and forces are counted).
+  void observe(const SimData& data, bool step_failed);
+
+  bool done() const {
+    return phase_ == AutopilotPhase::kReached || phase_ == AutopilotPhase::kFailed;
+  }
+  AutopilotPhase phase() const { return phase_; }
+  const AutopilotReport& report() const { return report_; }
+  int target() const { return target_; }
+  int device() const { return lead_; }
+  /// The vessel the lead tip is in, and the path length left to the target [m].
+  int currentVessel() const { return current_vessel_; }
+  double remainingPath() const { return report_.remaining_path; }
+
+ private:
+  struct Aim {
+    bool wanted{false};
+    Vec3 direction{Vec3::Zero()};  // where the bent tip should point
+    double distance{0.0};          // [m] from the tip to the ostium that asks it
+    bool toward_path{false};       // the ostium is the next vessel of the path
+  };
+  /// Where a device's bent tip should point: toward the next vessel of
+  /// `path` (from its tip) near its ostium, away from other ostia near them.
+  Aim aimFor(const SceneModel& model, const SimData& data, int device,
+             const std::vector<int>& path) const;
+  /// Rotation [rad] about the shaft that turns a device's bent tip toward `want`.
+  double tipBendAngle(const SceneModel& model, const SimData& data, int device,
+                      const Vec3& want) const;
+  /// The catheter technique for a wire inside a catheter, up to the first
+  /// branch of the plan: the wire leads around the curve with the catheter
+  /// behind it; past the branch's ostium the wire is drawn into the
+  /// catheter, the catheter's shaped tip is turned toward the ostium and
+  /// pulled back until it engages; the wire is advanced into the branch.
+  /// Then (stage kOver) control() steers the wire with the catheter following.
+  std::string controlPair(const SceneModel& model, SimData* data, const std::vector<int>& path,
+                          double t);
+  std::string setPhase(AutopilotPhase phase, const std::string& why, double t);
+  void drive(const SceneModel& model, SimData* data, double insertion_speed, double rotation);
+  void fail(const std::string& why, double t);
+
+  AutopilotOptions options_;
+  int target_{-1};
+  int lead_{-1};    // device whose tip must reach the target
+  int follow_{-1};  // its outer device (-1: none)
+  int entry_vessel_{-1};
+  AutopilotPhase phase_{AutopilotPhase::kAdvance};
+  AutopilotReport report_;
+  double start_time_{0.0};
+  double next_tick_{0.0};
+  double retract_until_{0.0};  // [m] inserted length to pull back to
+  double best_remaining_{1e9};
+  double progress_time_{0.0};
+  double dwell_since_{-1.0};
+  int current_vessel_{-1};
+  double last_turn_{0.0};
+  enum class PairStage { kLead, kBackOut, kPark, kEngage, kWireIn, kFollow, kOver };
+  PairStage stage_{PairStage::kLead};
+  int host_{-1}, branch_{-1};  // the vessel the catheter engages from, and the branch
+  double travel_{1.0};  // direction of travel along the host (+1: away from its origin)  // [rad]
+                        // the last aim error, for its sign near a half turn
+};
+
+}  // namespace evsim

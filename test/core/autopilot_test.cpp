@@ -1,0 +1,99 @@
+// The navigation autopilot: from the femoral access, a guidewire in an
+// angled catheter reaches vessels of the arch. That the tip is in the
+// target is judged against the SWC centreline itself (distance to the
+// vessel's polyline below its radius, 20 mm of path past its origin), not
+// the atlas the autopilot steers by.
+#include "endovascular_sim/sim/autopilot.h"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/geometry/centerline.h"
+
+namespace evsim {
+namespace {
+
+struct OnCenterline {
+  double distance{std::numeric_limits<double>::infinity()};  // [m] to the vessel's polyline
+  double radius{0.0};                                        // [m] there
+  double depth{0.0};  // [m] path length from the vessel's first segment's start
+};
+
+/// Nearest point of a named vessel's SWC polyline (its points in file order).
+OnCenterline nearestOn(const Centerline& c, const std::string& name, const Vec3& p) {
+  int v = -1;
+  for (size_t k = 0; k < c.vessel_names.size(); ++k)
+    if (c.vessel_names[k] == name) v = static_cast<int>(k);
+  OnCenterline best;
+  double s = 0.0;
+  for (int i = 0; i < c.numPoints(); ++i) {
+    if (c.vessel[i] != v) continue;
+    const Vec3 a = c.position[c.parent[i]], b = c.position[i];
+    const double len = (b - a).norm();
+    const double t = std::clamp((p - a).dot(b - a) / (len * len), 0.0, 1.0);
+    const double d = (p - a - t * (b - a)).norm();
+    if (d < best.distance) best = {d, c.radius[i], s + t * len};
+    s += len;
+  }
+  return best;
+}
+
+class ArchNavigation : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ArchNavigation, TheAutopilotReachesTheVesselWithoutAFailedStep) {
+  const SceneModel model = loadScene("arch_navigation");
+  SimData data = makeData(model);
+  Autopilot pilot(model, data, GetParam());
+  ASSERT_EQ(model.devices[pilot.device()].name, "guidewire");
+  while (!pilot.done() && data.time < 30.0) {
+    pilot.control(model, &data);
+    const StepStatus status = step(model, &data);
+    pilot.observe(data, status != StepStatus::kOk);
+    ASSERT_EQ(status, StepStatus::kOk) << data.last_error;
+  }
+  const AutopilotReport& r = pilot.report();
+  ASSERT_TRUE(r.reached) << r.reason;
+  EXPECT_EQ(r.failed_steps, 0);
+  EXPECT_LT(r.time, 15.0);
+  // The scene's own target tracker saw it too.
+  bool tracked = false;
+  for (size_t k = 0; k < model.targets.size(); ++k)
+    if (model.targets[k].spec.vessel == GetParam()) tracked = data.targets[k].reached;
+  EXPECT_TRUE(tracked);
+  // Independent: the wire's tip in the vessel's lumen, 20 mm along it.
+  const Centerline c = loadCenterlineFile(configDirectory() + "/vessels/carotid.swc");
+  const OnCenterline on = nearestOn(c, GetParam(), data.devices[pilot.device()].position.back());
+  EXPECT_LT(on.distance, on.radius) << GetParam();
+  EXPECT_GT(on.depth, 0.015) << GetParam();  // the polyline starts one point past the junction
+}
+
+INSTANTIATE_TEST_SUITE_P(Targets, ArchNavigation,
+                         ::testing::Values("left_common_carotid", "left_subclavian"));
+
+LoadError refusal(const std::string& scene, const std::string& target,
+                  const std::string& device = "") {
+  const SceneModel model = loadScene(scene);
+  const SimData data = makeData(model);
+  try {
+    Autopilot pilot(model, data, target, device);
+  } catch (const LoadError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "accepted " << target;
+  return LoadError("", 0, "", "");
+}
+
+TEST(Autopilot, RefusesWhatCannotBeNavigatedAndNamesWhatExists) {
+  const std::string typo = refusal("arch_navigation", "left_comon_carotid").what();
+  EXPECT_NE(typo.find("no vessel 'left_comon_carotid'"), std::string::npos) << typo;
+  EXPECT_NE(typo.find("nearest: left_common_carotid"), std::string::npos) << typo;
+  const std::string device = refusal("arch_navigation", "left_subclavian", "microwire").what();
+  EXPECT_NE(device.find("no device 'microwire'"), std::string::npos) << device;
+  const std::string free = refusal("free_insertion", "left_subclavian").what();
+  EXPECT_NE(free.find("has no vessels"), std::string::npos) << free;
+}
+
+}  // namespace
+}  // namespace evsim
