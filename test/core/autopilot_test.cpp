@@ -40,16 +40,23 @@ OnCenterline nearestOn(const Centerline& c, const std::string& name, const Vec3&
   return best;
 }
 
-class ArchNavigation : public ::testing::TestWithParam<const char*> {};
+struct Case {
+  const char* scene;
+  const char* target;
+};
+
+class ArchNavigation : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ArchNavigation, TheAutopilotReachesTheVesselWithoutAFailedStep) {
-  const SceneModel model = loadScene("arch_navigation");
+  const char* target = GetParam().target;
+  const SceneModel model = loadScene(GetParam().scene);
   SimData data = makeData(model);
-  Autopilot pilot(model, data, GetParam());
+  Autopilot pilot(model, data, target);
   ASSERT_EQ(model.devices[pilot.device()].name, "guidewire");
   while (!pilot.done() && data.time < 30.0) {
     pilot.control(model, &data);
-    const StepStatus status = step(model, &data);
+    bool recovered = false;  // as evsim navigate and the node: the recovery options once
+    const StepStatus status = stepOrRecover(model, &data, &recovered);
     pilot.observe(data, status != StepStatus::kOk);
     ASSERT_EQ(status, StepStatus::kOk) << data.last_error;
   }
@@ -60,17 +67,23 @@ TEST_P(ArchNavigation, TheAutopilotReachesTheVesselWithoutAFailedStep) {
   // The scene's own target tracker saw it too.
   bool tracked = false;
   for (size_t k = 0; k < model.targets.size(); ++k)
-    if (model.targets[k].spec.vessel == GetParam()) tracked = data.targets[k].reached;
+    if (model.targets[k].spec.vessel == target) tracked = data.targets[k].reached;
   EXPECT_TRUE(tracked);
   // Independent: the wire's tip in the vessel's lumen, 20 mm along it.
   const Centerline c = loadCenterlineFile(configDirectory() + "/vessels/carotid.swc");
-  const OnCenterline on = nearestOn(c, GetParam(), data.devices[pilot.device()].position.back());
-  EXPECT_LT(on.distance, on.radius) << GetParam();
-  EXPECT_GT(on.depth, 0.015) << GetParam();  // the polyline starts one point past the junction
+  const OnCenterline on = nearestOn(c, target, data.devices[pilot.device()].position.back());
+  EXPECT_LT(on.distance, on.radius) << target;
+  EXPECT_GT(on.depth, 0.015) << target;  // the polyline starts one point past the junction
 }
 
-INSTANTIATE_TEST_SUITE_P(Targets, ArchNavigation,
-                         ::testing::Values("left_common_carotid", "left_subclavian"));
+// The angled catheter for the left-side branches, the Headhunter curve for
+// the brachiocephalic trunk's (the 45-degree tip slips into the subclavian).
+INSTANTIATE_TEST_SUITE_P(
+    Targets, ArchNavigation,
+    ::testing::Values(Case{"arch_navigation", "left_common_carotid"},
+                      Case{"arch_navigation", "left_subclavian"},
+                      Case{"arch_navigation_headhunter", "right_common_carotid"}),
+    [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.target); });
 
 LoadError refusal(const std::string& scene, const std::string& target,
                   const std::string& device = "") {

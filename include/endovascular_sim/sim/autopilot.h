@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "endovascular_sim/sim/simulation.h"
+#include "endovascular_sim/sim/targets.h"
 
 namespace evsim {
 
@@ -45,7 +46,7 @@ struct AutopilotReport {
   std::string reason;  // why not reached ("" when reached)
   double time{0.0};    // [s] simulated, from the start of the run
   int retries{0};
-  double peak_wall_force{0.0};  // [N] the largest contact force on a wall (or device)
+  double peak_wall_force{0.0};  // [N] the largest contact force on the vessel wall
   long failed_steps{0};
   double remaining_path{0.0};  // [m] along the centrelines, at the end
 };
@@ -114,7 +115,7 @@ class Autopilot {
   double retract_until_{0.0};  // [m] inserted length to pull back to
   double best_remaining_{1e9};
   double progress_time_{0.0};
-  double dwell_since_{-1.0};
+  std::vector<TargetProgress> goal_progress_;  // the target's dwell, judged every step
   int current_vessel_{-1};
   double last_turn_{0.0};
   enum class PairStage { kLead, kBackOut, kPark, kEngage, kWireIn, kFollow, kOver };

@@ -172,7 +172,26 @@ double Autopilot::tipBendAngle(const SceneModel& model, const SimData& data, int
 
 std::string Autopilot::control(const SceneModel& model, SimData* data) {
   const double t = data->time;
-  if (done() || t + 1e-12 < next_tick_) return "";
+  if (done()) return "";
+  // The dwell is judged at every step, as the scene's targets are.
+  Target goal;
+  goal.spec.vessel = model.atlas->vessels()[target_].name;
+  goal.spec.depth = options_.depth;
+  goal.spec.dwell = options_.dwell;
+  goal.vessel = target_;
+  goal.device = lead_;
+  std::vector<std::string> names;
+  for (const DeviceModel& m : model.devices) names.push_back(m.name);
+  updateTargets({goal}, data->tips, names, *model.atlas, t, &goal_progress_);
+  if (goal_progress_[0].reached) {
+    phase_ = AutopilotPhase::kReached;
+    report_.reached = true;
+    report_.reason.clear();
+    report_.time = t - start_time_;
+    drive(model, data, 0.0, 0.0);
+    return "t=" + std::to_string(t) + " s  reached " + goal.spec.vessel;
+  }
+  if (t + 1e-12 < next_tick_) return "";
   next_tick_ = t + options_.control_period;
   const VesselAtlas& atlas = *model.atlas;
   const VesselLocation at = data->tips[lead_];
@@ -232,21 +251,12 @@ std::string Autopilot::control(const SceneModel& model, SimData* data) {
 
   const bool in_target = at.vessel == target_ && at.inside;
   if (in_target && at.depth >= options_.depth) {
-    if (dwell_since_ < 0.0) dwell_since_ = t;
-    // A few millimetres deeper than needed, then hold still.
+    // A few millimetres deeper than needed, then hold still for the dwell.
     drive(model, data, at.depth < options_.depth + 0.005 ? 0.5 * options_.advance_speed : 0.0, 0.0);
-    if (t - dwell_since_ >= options_.dwell - 1e-9) {
-      phase_ = AutopilotPhase::kReached;
-      report_.reached = true;
-      report_.reason.clear();
-      return "t=" + std::to_string(t) + " s  reached " + atlas.vessels()[target_].name;
-    }
     const std::string d =
         setPhase(AutopilotPhase::kDwell, "in " + atlas.vessels()[target_].name, t);
     return line.empty() ? d : line + "\n" + d;
   }
-  dwell_since_ = -1.0;
-
   // Wrong vessel, slid past the ostium, or stuck: pull back and try again.
   std::string retry;
   double pull = 0.0;
@@ -356,8 +366,13 @@ std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
   const auto pos = DriveCommand::Mode::kPosition;
   const auto vel = DriveCommand::Mode::kVelocity;
   // How far the catheter's tip is past the branch's ostium along the host.
-  const double cath_past =
-      cath_at.vessel == host_ ? (cath_at.depth - branch.origin_depth) * travel_ : -1.0;
+  // (In a vessel branching off the host at the same junction: its depth.)
+  double cath_past = -1.0;
+  if (cath_at.vessel == host_)
+    cath_past = (cath_at.depth - branch.origin_depth) * travel_;
+  else if (atlas.vessels()[cath_at.vessel].parent == host_ &&
+           std::abs(atlas.vessels()[cath_at.vessel].origin_depth - branch.origin_depth) < 1e-6)
+    cath_past = cath_at.depth;
   const bool wire_off_plan = std::find(plan.begin(), plan.end(), wire_at.vessel) == plan.end();
   // The branch's direction out of the host, and the catheter tip's.
   const Vec3 out = (atlas.pointAt(branch_, std::min(branch.length, 1.5 * host.radius + 0.005)) -
@@ -365,6 +380,19 @@ std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
                        .normalized();
   const int cn = model.devices[follow_].num_nodes;
   const Vec3 cath_dir = (cath.position[cn - 1] - cath.position[cn - 3]).normalized();
+  // Where a bent tip should point to take the branch: toward it, or, where
+  // it runs nearly straight on (within 35 degrees of the catheter's tip),
+  // away from its sibling: a bent tip pointed ahead turns aside.
+  Vec3 take = out;
+  if (cath_dir.dot(out) > std::cos(35.0 * M_PI / 180.0))
+    for (int sibling : host.children) {
+      const NamedVessel& o = atlas.vessels()[sibling];
+      if (sibling == branch_ || std::abs(o.origin_depth - branch.origin_depth) > host.radius)
+        continue;
+      take = -(atlas.pointAt(sibling, std::min(o.length, 1.5 * host.radius + 0.005)) -
+               atlas.pointAt(sibling, 0.0))
+                  .normalized();
+    }
   const VesselLocation cath_in_branch = atlas.locateIn(branch_, cath.position.back());
   const bool engaged = (cath_at.vessel == branch_ ||
                         (cath_in_branch.inside && cath_in_branch.depth >= 0.6 * host.radius)) &&
@@ -434,16 +462,28 @@ std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
         }
         return stage(PairStage::kLead, "missed the ostium of " + branch.name + "; advance again");
       }
-      const double turn = tipBendAngle(model, *data, follow_, out);
+      if (std::find(plan.begin(), plan.end(), cath_at.vessel) == plan.end()) {
+        // The catheter took the sibling: back out of it, and again.
+        if (++report_.retries > options_.max_retries) {
+          fail("retries exhausted (" + std::to_string(options_.max_retries) +
+                   "): the catheter does not engage " + branch.name,
+               t);
+          return "t=" + std::to_string(t) + " s  failed: " + report_.reason;
+        }
+        retract_until_ = std::max(0.0, wire.inserted_length - cath_at.depth - 0.015);
+        return stage(PairStage::kBackOut,
+                     "catheter in " + atlas.vessels()[cath_at.vessel].name + "; back out");
+      }
+      const double turn = tipBendAngle(model, *data, follow_, take);
       const bool aimed = std::abs(turn) < options_.aim_tolerance;
       const bool terminal =
           branch.origin_depth >= host.length - 1e-4 || branch.origin_depth <= 1e-4;
-      if (terminal && aimed) {
-        command(follow_, vel, 0.0, 0.0);
-        return stage(PairStage::kWireIn, "catheter turned toward " + branch.name + "; wire in");
-      }
-      command(follow_, vel, aimed ? -0.5 * options_.retract_speed : 0.0,
-              options_.rotation_gain * turn);
+      // Engage: pull back onto a side branch's ostium; advance into a
+      // bifurcation's branch.
+      const double speed = !aimed     ? 0.0
+                           : terminal ? 0.5 * options_.advance_speed
+                                      : -0.5 * options_.retract_speed;
+      command(follow_, vel, speed, options_.rotation_gain * turn);
       command(lead_, pos, cath.inserted_length - 0.005, wire.rotation_angle);
       return stage(PairStage::kEngage, "");
     }
@@ -465,20 +505,8 @@ std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
         command(lead_, pos, cath.inserted_length - 0.005, wire.rotation_angle);
         return stage(PairStage::kPark, "the wire missed " + branch.name + "; back in");
       }
-      // The wire's bent tip out of the catheter, toward the branch; where the
-      // branch runs nearly straight on (within 35 degrees of the catheter's
-      // tip), away from its sibling instead: a bent tip pointed ahead turns
-      // aside.
-      Vec3 want = out;
-      if (cath_dir.dot(out) > std::cos(35.0 * M_PI / 180.0))
-        for (int sibling : host.children) {
-          const NamedVessel& o = atlas.vessels()[sibling];
-          if (sibling == branch_ || std::abs(o.origin_depth - branch.origin_depth) > host.radius)
-            continue;
-          want = -(atlas.pointAt(sibling, std::min(o.length, 1.5 * host.radius + 0.005)) -
-                   atlas.pointAt(sibling, 0.0))
-                      .normalized();
-        }
+      // The wire's bent tip out of the catheter, toward the branch.
+      const Vec3 want = take;
       command(lead_, vel, 0.5 * options_.advance_speed,
               options_.rotation_gain * tipBendAngle(model, *data, lead_, want));
       return "";
@@ -511,7 +539,8 @@ std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
 void Autopilot::observe(const SimData& data, bool step_failed) {
   if (step_failed) ++report_.failed_steps;
   for (const Contact& c : data.contacts)
-    report_.peak_wall_force = std::max(report_.peak_wall_force, c.force);
+    if (c.other_device < 0 && !c.lumen)  // the vessel wall, not a device's lumen
+      report_.peak_wall_force = std::max(report_.peak_wall_force, c.force);
 }
 
 }  // namespace evsim
