@@ -73,7 +73,8 @@ class VesselAtlas {
     int vessel;
     double s0, s1;  // depth of a and b along the vessel [m]
   };
-  std::vector<int> segmentsNear(const Vec3& p) const;
+  /// Segments whose box (grown by their radius) meets p's grid cell.
+  const std::vector<int>& segmentsNear(const Vec3& p) const;
   long cellKey(const Vec3& p) const;
 
   std::vector<Vec3> position_;

@@ -103,10 +103,10 @@ std::vector<std::string> VesselAtlas::closestNames(const std::string& name, int 
   return nearestNames(name, names, static_cast<size_t>(std::max(0, count)));
 }
 
-std::vector<int> VesselAtlas::segmentsNear(const Vec3& p) const {
+const std::vector<int>& VesselAtlas::segmentsNear(const Vec3& p) const {
+  static const std::vector<int> kNone;
   const auto it = grid_.find(cellKey(p));
-  if (it != grid_.end()) return it->second;
-  return {};
+  return it != grid_.end() ? it->second : kNone;
 }
 
 VesselLocation VesselAtlas::locate(const Vec3& p) const {
@@ -124,8 +124,7 @@ VesselLocation VesselAtlas::locate(const Vec3& p) const {
   };
   // The best (smallest radial) hit per vessel among the segments near p.
   std::unordered_map<int, Hit> best;
-  std::vector<int> near = segmentsNear(p);
-  for (int k : near) {
+  for (int k : segmentsNear(p)) {
     const Hit h = measure(segments_[k]);
     auto [it, fresh] = best.emplace(segments_[k].vessel, h);
     if (!fresh && h.radial < it->second.radial) it->second = h;
