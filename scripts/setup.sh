@@ -21,10 +21,12 @@ packages=(
   libtf2-ros-dev libtf2-dev libtf2-msgs-dev ros-tf2-msgs
   ros-diagnostic-msgs libdiagnostic-msgs-dev libros-rosgraph-msgs-dev python3-rosgraph-msgs
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
+  libactionlib-dev libactionlib-msgs-dev ros-actionlib-msgs
   # Python side of the rostests (message bindings, rosservice, rosnode)
   python3-genpy python3-std-msgs python3-geometry-msgs python3-nav-msgs
   python3-sensor-msgs python3-visualization-msgs python3-std-srvs
   python3-diagnostic-msgs python3-tf2-ros python3-rosservice python3-rosnode rosbash
+  python3-actionlib python3-actionlib-msgs
   # rviz, and a virtual display to screenshot it
   rviz xvfb xauth libgl1-mesa-dri imagemagick
   # plots and pictures

@@ -128,6 +128,7 @@ NavigationNode::NavigationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
       nh_.createWallTimer(ros::WallDuration(1.0), &NavigationNode::onProgressTimer, this);
   last_publish_ = ros::WallTime::now();
   loop_.start();
+  navigate_ = std::make_unique<NavigateActionServer>(nh_, &loop_);
 }
 
 std::string NavigationNode::sceneFileFor(const std::string& request,

@@ -39,6 +39,7 @@ void SimulationLoop::stop() {
 
 void SimulationLoop::setScene(std::shared_ptr<const SceneModel> model, bool use_script) {
   const auto lock = lockForCaller();
+  endNavigation("pre-empted by a new scene");
   model_ = std::move(model);
   use_script_ = use_script;
   data_ = makeData(*model_);
@@ -56,6 +57,7 @@ void SimulationLoop::setScene(std::shared_ptr<const SceneModel> model, bool use_
 void SimulationLoop::reset() {
   const auto lock = lockForCaller();
   if (!model_) return;
+  endNavigation("pre-empted by a reset");
   data_ = makeData(*model_);
   if (!use_script_) data_.next_script_entry = model_->script.size();
   rejections_ = 0;
@@ -75,7 +77,79 @@ void SimulationLoop::setPaused(bool paused) {
 std::string SimulationLoop::setCommand(const std::string& device, const DriveCommand& command) {
   const auto lock = lockForCaller();
   if (!model_) return "no scene loaded";
-  return evsim::setCommand(*model_, &data_, device, command);
+  const std::string why = evsim::setCommand(*model_, &data_, device, command);
+  if (why.empty() && pilot_) endNavigation("pre-empted by a manual command for '" + device + "'");
+  return why;
+}
+
+std::string SimulationLoop::startNavigation(const std::string& target, const std::string& device,
+                                            const AutopilotOptions& options, long* id) {
+  const auto lock = lockForCaller();
+  if (!model_) return "no scene loaded";
+  std::unique_ptr<Autopilot> pilot;
+  try {
+    pilot = std::make_unique<Autopilot>(*model_, data_, target, device, options);
+  } catch (const std::exception& e) {  // LoadError: unknown, unconnected or closed target
+    return e.what();
+  }
+  endNavigation("pre-empted by a new navigation goal");
+  pilot_ = std::move(pilot);
+  data_.next_script_entry = model_->script.size();  // the autopilot drives from now on
+  {
+    std::lock_guard<std::mutex> status(status_mutex_);
+    const long next = navigation_.id + 1;
+    navigation_ = NavigationStatus{};
+    navigation_.id = next;
+    navigation_.active = true;
+    navigation_.target = target;
+    if (id) *id = next;
+  }
+  shareNavigation("");
+  return "";
+}
+
+void SimulationLoop::stopNavigation(const std::string& why) {
+  const auto lock = lockForCaller();
+  endNavigation(why);
+}
+
+NavigationStatus SimulationLoop::navigation() {
+  std::lock_guard<std::mutex> status(status_mutex_);
+  NavigationStatus out = navigation_;
+  navigation_.events.clear();
+  return out;
+}
+
+void SimulationLoop::endNavigation(const std::string& why) {
+  if (!pilot_) return;
+  const bool preempted = !pilot_->done();
+  for (size_t i = 0; model_ && i < data_.commands.size(); ++i)
+    data_.commands[i] = DriveCommand{};  // the drives stop where they are
+  std::string event;
+  if (preempted) event = why;
+  shareNavigation(event);
+  {
+    std::lock_guard<std::mutex> status(status_mutex_);
+    navigation_.active = false;
+    navigation_.done = true;
+    if (preempted) {
+      navigation_.report.reached = false;
+      navigation_.report.reason = event;
+    }
+  }
+  pilot_.reset();
+}
+
+void SimulationLoop::shareNavigation(const std::string& event) {
+  if (!pilot_) return;
+  const VesselAtlas& atlas = *model_->atlas;
+  const int vessel = pilot_->currentVessel();
+  std::lock_guard<std::mutex> status(status_mutex_);
+  navigation_.phase = phaseName(pilot_->phase());
+  navigation_.vessel = vessel >= 0 ? atlas.vessels()[vessel].name : "";
+  navigation_.remaining_path = pilot_->remainingPath();
+  navigation_.report = pilot_->report();
+  if (!event.empty() && navigation_.events.size() < 100) navigation_.events.push_back(event);
 }
 
 std::string SimulationLoop::detach(const std::string& device) {
@@ -197,11 +271,20 @@ double SimulationLoop::runFrame() {
     while (waiters_ > 0) std::this_thread::yield();
     std::lock_guard<std::mutex> lock(mutex_);
     if (paused_ || !model_) break;
+    if (pilot_) shareNavigation(pilot_->control(*model_, &data_));
     if (step(*model_, &data_) != StepStatus::kOk && !onRejectedStep()) {
+      if (pilot_ && paused_) {  // the recovery failed too: the navigation ends
+        pilot_->observe(data_, /*step_failed=*/true);
+        endNavigation("the simulation paused: " + lastError());
+      }
       shareState();  // (paused, or the same state)
       break;
     }
     rejections_ = 0;
+    if (pilot_) {
+      pilot_->observe(data_, /*step_failed=*/false);
+      if (pilot_->done()) endNavigation("");
+    }
     {
       std::lock_guard<std::mutex> status(status_mutex_);
       last_error_.clear();  // steps succeed again

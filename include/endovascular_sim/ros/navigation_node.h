@@ -4,7 +4,8 @@
 //
 // Subscribes: command (endovascular_sim/DeviceCommand), joy (sensor_msgs/Joy,
 //   with ~joystick set). Services: load_scene, list_scenes, reset
-//   (std_srvs/Trigger), pause (std_srvs/SetBool). Parameters: see
+//   (std_srvs/Trigger), pause (std_srvs/SetBool). Action: navigate_to
+//   (endovascular_sim/NavigateTo, ros/navigate_action.h). Parameters: see
 //   NavigationNode::Parameters and the README.
 //
 // load_scene runs on a thread of its own (its own callback queue): a scene
@@ -33,6 +34,7 @@
 #include "endovascular_sim/SolverConfig.h"
 #include "endovascular_sim/ros/frame_publisher.h"
 #include "endovascular_sim/ros/joystick_mapping.h"
+#include "endovascular_sim/ros/navigate_action.h"
 #include "endovascular_sim/ros/simulation_loop.h"
 
 namespace evsim {
@@ -103,6 +105,7 @@ class NavigationNode {
   int frames_this_second_{0};
   boost::recursive_mutex reconfigure_mutex_;
   std::unique_ptr<dynamic_reconfigure::Server<endovascular_sim::SolverConfig>> reconfigure_;
+  std::unique_ptr<NavigateActionServer> navigate_;  // (after loop_: destroyed before it)
 };
 
 }  // namespace evsim

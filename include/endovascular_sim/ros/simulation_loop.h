@@ -11,6 +11,10 @@
 // loop applies its recovery for that one step (the status method, more
 // activation loops, halving on: recoveryOptions); if even that fails, it
 // pauses with an error. Each rejection and recovery is told in notices.
+//
+// The loop can run the core's autopilot (sim/autopilot.h) to a named
+// vessel: it sets the drive commands before every step and watches each
+// step's outcome. A manual command, a reset or a new scene pre-empts it.
 #pragma once
 
 #include <atomic>
@@ -21,8 +25,22 @@
 #include <vector>
 
 #include "endovascular_sim/ros/frame_snapshot.h"
+#include "endovascular_sim/sim/autopilot.h"
 
 namespace evsim {
+
+/// The autopilot's state as the NavigateTo action reports it.
+struct NavigationStatus {
+  long id{0};  // of the navigation started last (0: none yet)
+  bool active{false};
+  bool done{false};    // ended: reached, failed or pre-empted
+  std::string phase;   // the autopilot's phase (phaseName)
+  std::string vessel;  // the vessel the tip is in
+  std::string target;
+  double remaining_path{0.0};       // [m] along the centrelines
+  AutopilotReport report;           // when done
+  std::vector<std::string> events;  // phase lines since the last navigation() call
+};
 
 class SimulationLoop {
  public:
@@ -48,6 +66,16 @@ class SimulationLoop {
   std::string detach(const std::string& device);
   /// Replaces the contact options (validated; returns why refused, "" if not).
   std::string setContactOptions(const ContactOptions& options);
+
+  /// Starts the autopilot toward `target` (a vessel name) with `device`'s
+  /// tip ("": the innermost device); the rest of the scene's script is
+  /// skipped. Returns why it was refused ("" when started; *id its id).
+  std::string startNavigation(const std::string& target, const std::string& device,
+                              const AutopilotOptions& options, long* id);
+  /// Ends the running navigation with `why` as its reason, devices stopped.
+  void stopNavigation(const std::string& why);
+  /// The navigation's status; takes its phase lines since the last call.
+  NavigationStatus navigation();
 
   std::shared_ptr<const SceneModel> model() const;
   FrameSnapshot snapshot() const;
@@ -77,6 +105,11 @@ class SimulationLoop {
   /// Returns true when the recovery step succeeded.
   bool onRejectedStep();
   void notice(const std::string& text);  // (status_mutex_ not held)
+  /// Ends the autopilot (mutex_ held): its report kept (`why` the reason
+  /// when it had not ended by itself), the devices stopped.
+  void endNavigation(const std::string& why);
+  /// Shares the autopilot's status (mutex_ held).
+  void shareNavigation(const std::string& event);
 
   const double period_s_;
   mutable std::mutex mutex_;  // the simulation: held for a whole step
@@ -90,7 +123,9 @@ class SimulationLoop {
   LoopTiming timing_;
   std::string last_error_;
   std::vector<std::string> notices_;
-  int rejections_{0};  // of the current state (mutex_)
+  int rejections_{0};                 // of the current state (mutex_)
+  std::unique_ptr<Autopilot> pilot_;  // the running navigation (mutex_)
+  NavigationStatus navigation_;       // (status_mutex_)
 
   mutable std::atomic<int> waiters_{0};
   std::atomic<bool> running_{false};
