@@ -96,7 +96,7 @@ void settle(const SceneModel& m, SimData* d, int steps) {
 // Quasi-static: a wire fitting the lumen to 5 um, steps of 0.2 ms. (With
 // steps of 1 ms and clearances below about 50 um the step's projection
 // holds the wire where the free motion left it and the composite comes out
-// too stiff; README, "Known gaps".)
+// too stiff; docs/limitations.md.)
 class CompositeTip : public ::testing::TestWithParam<double> {};
 
 TEST_P(CompositeTip, WireStraightensTheCatheterTipByTheStiffnessRatio) {
@@ -130,7 +130,7 @@ TEST(Coaxial, LooseWireSettlesAndWithdrawnFreesTheTip) {
   if (HasFatalFailure()) return;
   const double rest = kTipCurvature * 0.02;
   // Settled: what moves is a jitter of the resting contacts (about 1e-8 J,
-  // against 2e-3 J of elastic energy in the tip; README, "Known gaps").
+  // against 2e-3 J of elastic energy in the tip; docs/limitations.md).
   EXPECT_LT(kinetic(m, d), 1e-7);
   EXPECT_GT(tipTurn(m, d), rest / 2.0);
   EXPECT_LT(tipTurn(m, d), 0.9 * rest);

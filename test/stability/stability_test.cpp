@@ -6,7 +6,7 @@
 // kineticBound).
 //
 // Each case is a shipped scene, so `evsim run SCENE` shows it. Horizons are
-// those verified here; docs/README name the cases that still fail beyond.
+// those verified here; docs/hard_cases.md names the cases that still fail beyond.
 #include <gtest/gtest.h>
 
 #include <algorithm>

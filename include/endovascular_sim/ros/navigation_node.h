@@ -6,7 +6,7 @@
 //   with ~joystick set). Services: load_scene, list_scenes, reset
 //   (std_srvs/Trigger), pause (std_srvs/SetBool). Action: navigate_to
 //   (endovascular_sim/NavigateTo, ros/navigate_action.h). Parameters: see
-//   NavigationNode::Parameters and the README.
+//   NavigationNode::Parameters and docs/ros_interface.md.
 //
 // load_scene runs on a thread of its own (its own callback queue): a scene
 // is built there while the simulation and the publisher go on with the old
