@@ -1,0 +1,134 @@
+// The phases of one step's contact resolution (contact_solver.h), as
+// resolveContacts calls them, and the state they share. Internal to the
+// contact layer.
+//
+//   contact_detection.cpp  detection on [x_t, x_f] (the paper's first roots),
+//                     kept contacts, device pairs, lumen contacts; the
+//                     re-detection at each loop's x and the tunnel check
+//   contact_system.cpp  the loop's linear problem: the wall-curvature term
+//                     A + C, the rows of H and q at x, W = H A^-1 H^T, and
+//                     the correction x = x_f + A^-1 H^T lambda
+//   contact_solver.cpp  the loop itself and the LCP (or frictional) solve
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <map>
+#include <vector>
+
+#include "endovascular_sim/contact/contact_solver.h"
+#include "endovascular_sim/contact/delassus.h"
+#include "endovascular_sim/mechanics/chain_matrix.h"
+#include "sample_fields.h"
+
+namespace evsim::activation {
+
+using Clock = std::chrono::steady_clock;
+
+inline double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+/// Rows of one device from which W comes from the band of A^-1 (one O(n)
+/// selected inversion per matrix, then the sweep) rather than from the
+/// block solve Y = A^-1 H^T (O(c n) triangular solves): the two cost the
+/// same at about 16 rows on a 200-element wire (BM_Delassus*).
+constexpr int kChainDelassusMinRows = 16;
+
+/// What a device's workspace band (ws.inverse) holds: nothing valid, the
+/// band of A^-1, of (A + C)^-1.
+enum class Band { kNone, kOfA, kOfCurved };
+
+/// What the activation loop of one step carries from loop to loop.
+struct LoopState {
+  LoopState(const ContactProblem& pb, std::vector<Contact>* contacts);
+
+  std::vector<VecX> dq_free;    // per device: the free motion x_f - x_t
+  std::vector<VecX> dq;         // the loop's iterate x - x_t
+  std::vector<DeviceState> xf;  // x_t (+) dq_free
+  std::vector<DeviceState> x;   // x_t (+) dq: the configuration the rows are linearised at
+  std::vector<Contact>* contacts;
+  std::vector<std::vector<int>> contact_of;         // per device, sample -> contact or -1
+  std::map<std::array<int, 4>, int> pair_contact;   // (device, sample, device, sample) -> contact
+  std::map<std::array<int, 2>, int> lumen_contact;  // (device, sample) -> contact
+  std::vector<char> updated;  // per contact: plane already updated in this step
+  // The wall's curvature and W's storage:
+  std::vector<Band> band;                          // what ws[d].inverse holds
+  std::vector<ChainMatrix> curvature;              // C per device, kept once no longer updated
+  std::vector<char> curved;                        // device d steps with A + C
+  std::vector<std::vector<ContactRow>> last_rows;  // rows of the last loop that used the band
+  std::vector<DelassusBuffer> last_W;              // and its W (reused while the band stays)
+};
+
+/// One loop's linear problem: W lambda + q >= 0 (with friction, the
+/// frictional problem with mu), and what the correction needs.
+struct LoopSystem {
+  int c{0};                                   // contacts
+  int m{0};                                   // rows: per contact n (and t1, t2 with friction)
+  std::vector<const ChainFactor*> factor;     // per device: of A, or of A + C
+  std::vector<VecX> dq_step;                  // the loop's free motion (with C)
+  std::vector<std::array<Vec3, 2>> tangents;  // per contact with friction: t1, t2
+  VecX q, mu;
+  MatX W_sum;                                    // m x m, once a device's part is added
+  const DelassusBuffer* W_device{nullptr};       // or one device's operator (it holds every row)
+  std::vector<std::vector<int>> of_device;       // rows with a part on each device
+  std::vector<std::vector<ContactRow>> rows_of;  // their rows of H, per device
+  std::vector<MatX> Y;                           // A^-1 H^T where W came from the block solve
+  MatXView W() const { return W_device ? W_device->view() : MatXView(W_sum); }
+};
+
+// --- Shared small helpers ---------------------------------------------------
+
+/// Configuration x_t (+) dq for every device.
+std::vector<DeviceState> moved(const std::vector<DeviceState>& start, const std::vector<VecX>& dq);
+/// True when sample point s of device d takes part in contacts: it moves
+/// with a free node and does not lie inside the element cut by a detachment.
+bool takesPart(const ContactProblem& pb, size_t d, const SamplePoint& s);
+/// True for a point of a detached part (a coil cut from its pusher).
+bool detached(const DeviceState& x, const SamplePoint& s);
+/// Unit tangent of the device axis at a sample point.
+Vec3 sampleTangent(const DeviceState& x, const SamplePoint& s);
+/// Outer device of device d (-1: none).
+int outerOf(const ContactProblem& pb, size_t d);
+
+// --- detection.cpp ----------------------------------------------------------
+
+/// The paper's detection on [x_t, x_f], the wall contacts kept from the last
+/// step, device pairs and lumen contacts at x_f. *detect_later: the wall's
+/// detection waits for the first loop's iterate (options
+/// detect_on_first_iterate). Returns true when a point beyond the wall has
+/// no plane (stranded: the step cannot be solved).
+bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o,
+                        fields::SampleFields* field, LoopState* s, bool* detect_later,
+                        ContactStats* st);
+/// Re-detection at the loop's x: planes of violated contacts updated, new
+/// contacts added (wall, pairs, lumen); the deepest point into
+/// st->max_penetration_m. `fresh_from`: contacts from this index were added
+/// in this loop. Returns true when no point is violated.
+bool redetect(const ContactProblem& pb, const ContactOptions& o, fields::SampleFields* field,
+              int fresh_from, LoopState* s, ContactStats* st);
+/// The converged answer's paths x_t -> x checked for tunnels through a wall
+/// into another lumen; each gets the exit's plane. Returns true when none.
+bool checkTunnels(const ContactProblem& pb, const ContactOptions& o, fields::SampleFields* field,
+                  LoopState* s, ContactStats* st);
+/// The paper's detection on [x_t, x] (the first loop after kept contacts).
+/// Returns true when a point beyond the wall has no plane.
+bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState>& x,
+                         const RootOptions& root, fields::SampleFields* field,
+                         std::vector<Contact>* contacts, std::vector<std::vector<int>>* contact_of);
+
+// --- contact_system.cpp -----------------------------------------------------
+
+/// The loop's free motion and factors: A, or A + C with the wall's curvature
+/// (C updated in the first curvature_loops loops).
+void prepareFreeMotion(const ContactProblem& pb, const ContactOptions& o, int loop, LoopState* s,
+                       LoopSystem* sys);
+/// The rows of H and q, linearised at x: g(x_f + A^-1 H^T lambda) ~ g(x) +
+/// H (x_f - x) + W lambda; then W = H A^-1 H^T per device.
+void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopState* s,
+                        LoopSystem* sys);
+/// x = x_f + A^-1 H^T lambda; the contacts' forces from lambda.
+void correctMotion(const ContactProblem& pb, const ContactOptions& o, const LoopSystem& sys,
+                   const VecX& lambda, LoopState* s);
+
+}  // namespace evsim::activation

@@ -1,0 +1,534 @@
+// Detection of one step's contacts (the paper's section 3): the first root
+// of the field along each sample point's path x_t -> x_f, the wall contacts
+// kept from the last step, device pairs and lumen contacts; then, in each
+// activation loop, the re-detection at the loop's x (plane updates, new
+// contacts) and, once it converged, the tunnel check. Called by
+// resolveContacts (contact_solver.cpp) through activation_loop.h.
+#include <algorithm>
+#include <cmath>
+
+#include "activation_loop.h"
+#include "device_pairs.h"
+#include "endovascular_sim/contact/coaxial.h"
+#include "endovascular_sim/mechanics/elasticity.h"
+#include "wall_planes.h"
+
+namespace evsim::activation {
+
+using fields::SampleFields;
+using pairs::findPairs;
+using pairs::Pair;
+using pairs::pairNormal;
+using pairs::PointRef;
+using walls::depthOf;
+using walls::farExit;
+using walls::lastWallAlong;
+using walls::tunnelExit;
+
+/// Configuration x_t (+) dq for every device.
+std::vector<DeviceState> moved(const std::vector<DeviceState>& start, const std::vector<VecX>& dq) {
+  std::vector<DeviceState> x = start;
+  for (size_t d = 0; d < x.size(); ++d) applyIncrement(dq[d], 0, &x[d]);
+  return x;
+}
+
+namespace {
+
+/// True when the sample point moves with at least one free node.
+bool isFree(const SamplePoint& s, int first_free) {
+  if (s.xi == 0.0) return s.element >= first_free;
+  return s.element + 1 >= first_free;
+}
+
+}  // namespace
+
+/// True when the sample point of device d takes part in contacts: it moves
+/// with a free node and does not lie inside the element cut by a detachment.
+bool takesPart(const ContactProblem& pb, size_t d, const SamplePoint& s) {
+  if (s.element == (*pb.start)[d].cut_element && s.xi > 0.0) return false;
+  return isFree(s, (*pb.workspaces)[d].first_free_node);
+}
+
+/// True for a point of a detached part (a coil cut from its pusher): it has
+/// left its outer device for good, so no lumen holds it.
+bool detached(const DeviceState& x, const SamplePoint& s) {
+  return x.cut_element >= 0 && s.element > x.cut_element;
+}
+
+/// Unit tangent of the device axis at a sample point.
+Vec3 sampleTangent(const DeviceState& x, const SamplePoint& s) {
+  const Vec3 t = (1.0 - s.xi) * (x.rotation[s.element] * Vec3::UnitX()) +
+                 s.xi * (x.rotation[s.element + 1] * Vec3::UnitX());
+  return t.normalized();
+}
+
+/// Outer device of device d (-1: none).
+int outerOf(const ContactProblem& pb, size_t d) {
+  return pb.outer_of && d < pb.outer_of->size() ? (*pb.outer_of)[d] : -1;
+}
+
+namespace {
+
+/// Sample points of all devices at x. A point of an inner device within its
+/// outer device's lumen, or less than a few radii beyond its tip, is marked:
+/// it touches the outer device through the lumen constraint, never as a pair.
+std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<DeviceState>& x) {
+  const auto& devices = *pb.devices;
+  const auto& samples = *pb.samples;
+  std::vector<PointRef> pts;
+  for (size_t d = 0; d < devices.size(); ++d) {
+    const int outer = outerOf(pb, d);
+    const double reach = outer < 0
+                             ? 0.0
+                             : x[outer].inserted_length + 4.0 * devices[outer].node_radius.back() +
+                                   devices[outer].elements.back().length;
+    for (size_t k = 0; k < samples[d].size(); ++k) {
+      const SamplePoint& sp = samples[d][k];
+      if (sp.element == x[d].cut_element && sp.xi > 0.0) continue;  // the detachment's gap
+      const double s = materialCoordinate(devices[d], sp);
+      const bool held =
+          outer >= 0 && !detached(x[d], sp) && pathLength(devices[d], x[d], s) < reach;
+      pts.push_back({takesPart(pb, d, sp), static_cast<int>(d), static_cast<int>(k), sp.element, s,
+                     samplePosition(devices[d], x[d], sp), sp.radius, held ? outer : -1});
+    }
+  }
+  return pts;
+}
+
+/// A wall contact of the previous step that starts this one: it carried a
+/// force, or ended touching its plane (gap within `touching` [m]: a point
+/// resting on the wall with no force, which the next step's free motion
+/// pushes through again), and its point still takes part.
+bool keptWallContact(const ContactProblem& pb, const Contact& prev, double touching) {
+  if (prev.other_device >= 0 || prev.device >= static_cast<int>(pb.devices->size())) return false;
+  if (!(prev.force > 0.0) && !(std::abs(prev.gap) <= touching)) return false;
+  return takesPart(pb, prev.device, (*pb.samples)[prev.device][prev.sample]);
+}
+
+bool hasKeptWallContacts(const ContactProblem& pb, double touching) {
+  if (!pb.previous) return false;
+  for (const Contact& prev : *pb.previous)
+    if (keptWallContact(pb, prev, touching)) return true;
+  return false;
+}
+
+/// Wall contacts that carried a force in the previous step start this one
+/// (a pre-shaped tip held against the wall springs back out in the free
+/// motion, and without its contact the first loops chase it millimetres
+/// away), their planes where their points at x_t project on the wall.
+void keepWallContacts(const ContactProblem& pb, const RootOptions& root, double touching,
+                      std::vector<Contact>* contacts, std::vector<std::vector<int>>* contact_of) {
+  if (!pb.previous || !pb.surface) return;
+  for (const Contact& prev : *pb.previous) {
+    if (!keptWallContact(pb, prev, touching)) continue;
+    const int d = prev.device, k = prev.sample;
+    if ((*contact_of)[d][k] >= 0) continue;
+    const SamplePoint& s = (*pb.samples)[d][k];
+    const SurfacePoint plane =
+        projectToSurface(*pb.surface, samplePosition((*pb.devices)[d], (*pb.start)[d], s), s.radius,
+                         pb.motion, 0.01, root);
+    if (!plane.hit) continue;
+    (*contact_of)[d][k] = static_cast<int>(contacts->size());
+    Contact ct{d, k, plane.point, plane.normal, 0, 0};
+    ct.force = prev.force;  // the friction solver's warm start
+    ct.friction = prev.friction;
+    contacts->push_back(ct);
+  }
+}
+
+/// Effect 'coaxial': a point of an inner device beyond its outer device's
+/// lumen at x.
+struct LumenViolation {
+  int device, sample;
+  LumenLocation location;
+};
+
+/// Points of inner devices beyond the lumen by more than `tolerance` at x:
+/// all of them, or per inner element the deepest only.
+std::vector<LumenViolation> lumenViolations(const ContactProblem& pb,
+                                            const std::vector<DeviceState>& x, double tolerance,
+                                            bool deepest_per_element) {
+  const auto& devices = *pb.devices;
+  const auto& samples = *pb.samples;
+  std::vector<LumenViolation> out;
+  for (size_t d = 0; d < devices.size(); ++d) {
+    const int outer = outerOf(pb, d);
+    if (outer < 0) continue;
+    int element = -1;
+    for (size_t k = 0; k < samples[d].size(); ++k) {
+      const SamplePoint& s = samples[d][k];
+      if (!takesPart(pb, d, s) || detached(x[d], s)) continue;
+      const LumenLocation loc = locateInLumen(devices[d], x[d], s, devices[outer], x[outer]);
+      if (!loc.inside || loc.excess() <= tolerance) continue;
+      const LumenViolation v{static_cast<int>(d), static_cast<int>(k), loc};
+      if (deepest_per_element && s.element == element) {
+        if (loc.excess() > out.back().location.excess()) out.back() = v;
+        continue;
+      }
+      element = s.element;
+      out.push_back(v);
+    }
+  }
+  return out;
+}
+
+/// The lumen contact of a violation: the point against the lumen's tangent
+/// plane where it lies.
+Contact lumenContact(const LumenViolation& v, int outer) {
+  Contact ct{v.device, v.sample, v.location.center, v.location.normal, 0, 0, outer, -1};
+  ct.other = v.location.axis;
+  ct.separation = -v.location.clearance;
+  ct.lumen = true;
+  return ct;
+}
+
+}  // namespace
+
+/// The paper's detection on [x_t, x_f]: per element of each device, the
+/// sample point deepest beyond the wall at x_f becomes a contact, its plane
+/// at the first root of its path (the activation loop adds any other point
+/// of the element that stays beyond). A path that ends inside but left the
+/// lumen on the way (a corner cut through tissue) is a crossing too, at its
+/// first root. Only the chosen point's root is searched: the depth at x_f
+/// ranks the others for one evaluation each. Returns true when a point
+/// beyond the wall has no plane (beyond every vessel's support: the step
+/// cannot be solved).
+bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState>& xf,
+                         const RootOptions& root, SampleFields* field,
+                         std::vector<Contact>* contacts,
+                         std::vector<std::vector<int>>* contact_of) {
+  const auto& devices = *pb.devices;
+  const auto& start = *pb.start;
+  const auto& samples = *pb.samples;
+  const ImplicitSurface& surface = *pb.surface;
+  bool stranded = false;
+  // The first root of sample k's path (g1: the field at its end, when
+  // known), or its projection at x_f when it starts beyond the wall (within
+  // the tolerance band, or a moving wall).
+  auto crossing = [&](size_t d, int k, const Vec3& p0, const Vec3& p1, const FieldSample* g1) {
+    const SamplePoint& s = samples[d][k];
+    const FieldSample& g0 = field->start(d, k, p0, s.radius, pb.motion);
+    SurfacePoint hit = g1 ? firstRootBetween(surface, p0, g0, p1, *g1, s.radius, pb.motion, root)
+                          : firstRootFrom(surface, p0, g0, p1, s.radius, pb.motion, root);
+    if (hit.hit && hit.started_outside) {
+      hit = projectToSurface(surface, p1, s.radius, pb.motion, 0.01, root);
+      if (!hit.hit) stranded = true;  // beyond every vessel's support: no plane
+    }
+    return hit;
+  };
+  for (size_t d = 0; d < devices.size(); ++d) {
+    struct Best {
+      int sample{-1};
+      double depth{-1.0};
+      SurfacePoint hit;  // (not yet searched when !hit.hit)
+    } best;
+    int element = -1;
+    auto flush = [&]() {
+      if (best.sample < 0) return;
+      const SamplePoint& s = samples[d][best.sample];
+      if (!best.hit.hit)
+        best.hit = crossing(d, best.sample, samplePosition(devices[d], start[d], s),
+                            samplePosition(devices[d], xf[d], s), nullptr);
+      if (best.hit.hit) {
+        (*contact_of)[d][best.sample] = static_cast<int>(contacts->size());
+        contacts->push_back(
+            {static_cast<int>(d), best.sample, best.hit.point, best.hit.normal, 0, 0});
+      }
+      best = Best{};
+    };
+    for (size_t k = 0; k < samples[d].size(); ++k) {
+      const SamplePoint& s = samples[d][k];
+      if (s.element != element) {
+        flush();
+        element = s.element;
+      }
+      if (!takesPart(pb, d, s)) continue;
+      const Vec3 p0 = samplePosition(devices[d], start[d], s);
+      const Vec3 p1 = samplePosition(devices[d], xf[d], s);
+      if (field->startInside(d, k, p0, p1, s.radius, pb.motion)) continue;
+      if ((*contact_of)[d][k] >= 0) continue;  // a contact already (kept from the last step)
+      const FieldSample& g1 = field->end(d, k, p1, s.radius, pb.motion);
+      if (g1.value < 0.0) {  // beyond at x_f: ranked by its depth, searched if deepest
+        const double depth = depthOf(g1);
+        if (depth > best.depth) best = {static_cast<int>(k), depth, SurfacePoint{}};
+        continue;
+      }
+      const SurfacePoint hit = crossing(d, k, p0, p1, &g1);
+      if (!hit.hit) continue;
+      const double depth = -hit.normal.dot(p1 - hit.point);
+      if (depth > best.depth) best = {static_cast<int>(k), depth, hit};
+    }
+    flush();
+  }
+  return stranded;
+}
+
+namespace {
+
+/// The normal of a device pair at x, from b toward a.
+Vec3 pairNormalAt(const ContactProblem& pb, const std::vector<DeviceState>& x, const PointRef& a,
+                  const PointRef& b) {
+  const auto& samples = *pb.samples;
+  return pairNormal(a.p, sampleTangent(x[a.device], samples[a.device][a.sample]), b.p,
+                    sampleTangent(x[b.device], samples[b.device][b.sample]));
+}
+
+void addPair(const ContactProblem& pb, const PointRef& a, const PointRef& b, const Vec3& n,
+             LoopState* s) {
+  s->pair_contact[{a.device, a.sample, b.device, b.sample}] = static_cast<int>(s->contacts->size());
+  Contact ct{a.device, a.sample, b.p, n, 0, 0, b.device, b.sample};
+  ct.other = (*pb.samples)[b.device][b.sample];
+  ct.separation = a.r + b.r;
+  s->contacts->push_back(ct);
+}
+
+void addLumen(const ContactProblem& pb, const LumenViolation& v, LoopState* s) {
+  s->lumen_contact[{v.device, v.sample}] = static_cast<int>(s->contacts->size());
+  s->contacts->push_back(lumenContact(v, outerOf(pb, v.device)));
+}
+
+/// Inner devices' points beyond their outer device's lumen at x_f, and the
+/// lumen contacts of the previous step that carried a force.
+void detectLumenContacts(const ContactProblem& pb, LoopState* s) {
+  const auto& devices = *pb.devices;
+  const auto& samples = *pb.samples;
+  const auto& start = *pb.start;
+  const std::vector<DeviceState>& xf = s->xf;
+  for (const LumenViolation& v : lumenViolations(pb, xf, 0.0, true)) addLumen(pb, v, s);
+  if (!pb.previous) return;
+  for (const Contact& prev : *pb.previous) {
+    if (!prev.lumen || prev.force <= 0.0 || prev.device >= static_cast<int>(devices.size()) ||
+        outerOf(pb, prev.device) != prev.other_device)
+      continue;
+    const int d = prev.device, k = prev.sample, outer = prev.other_device;
+    const SamplePoint& sp = samples[d][k];
+    if (s->lumen_contact.count({d, k}) || !takesPart(pb, d, sp) || detached(start[d], sp)) continue;
+    const LumenViolation v{d, k, locateInLumen(devices[d], xf[d], sp, devices[outer], xf[outer])};
+    if (!v.location.inside || v.location.across.norm() == 0.0) continue;
+    addLumen(pb, v, s);
+    s->contacts->back().force = prev.force;  // the friction solver's warm start
+    s->contacts->back().friction = prev.friction;
+  }
+}
+
+/// The plane for a point of device d, sample k, found beyond the wall at p
+/// (its path from p0 = its position at x_t): where p projects; beyond every
+/// vessel's support (a flat field, no projection), where the path crossed
+/// the wall.
+SurfacePoint planeForViolation(const ContactProblem& pb, const RootOptions& root,
+                               const SamplePoint& sp, const Vec3& p0, const Vec3& p) {
+  SurfacePoint plane = projectToSurface(*pb.surface, p, sp.radius, pb.motion, 0.01, root);
+  if (plane.hit) return plane;
+  // No projection (beyond every vessel's support the field is flat):
+  // the wall where the point's path from x_t crossed it.
+  const SurfacePoint hit = firstRoot(*pb.surface, p0, p, sp.radius, pb.motion, root);
+  if (hit.hit && !hit.started_outside) plane = hit;
+  // At x_t already within the tolerance band beyond the wall: where
+  // the path, having crossed the lumen, leaves it through the far
+  // wall; if it never enters the lumen, the wall nearest to where it
+  // left the support (the point slid along its plane, millimetres
+  // round a bend). The plane where it was would hold nothing: the
+  // point satisfies it, and it was added again in every loop.
+  if (hit.started_outside) {
+    plane = farExit(*pb.surface, p0, p, sp.radius, pb.motion, root);
+    if (!plane.hit) plane = lastWallAlong(*pb.surface, p0, p, sp.radius, pb.motion, root);
+  }
+  return plane;
+}
+
+/// The wall's part of the re-detection: every point at x beyond the wall by
+/// more than the tolerance updates its contact's plane (once a step) or
+/// gets a new one. Returns false when a point is violated; *deepest: the
+/// deepest point's depth [m].
+bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFields* field,
+                   int fresh_from, LoopState* s, double* deepest) {
+  const auto& devices = *pb.devices;
+  const auto& start = *pb.start;
+  const auto& samples = *pb.samples;
+  const RootOptions& root = o.root;
+  bool solved = true;
+  for (size_t d = 0; d < devices.size(); ++d) {
+    for (size_t k = 0; k < samples[d].size(); ++k) {
+      const SamplePoint& sp = samples[d][k];
+      if (!takesPart(pb, d, sp)) continue;
+      const Vec3 p = samplePosition(devices[d], s->x[d], sp);
+      double depth_bound = 0.0;
+      if (field->endWithinTolerance(d, k, p, sp.radius, pb.motion, o.penetration_tolerance,
+                                    &depth_bound)) {
+        *deepest = std::max(*deepest, depth_bound);
+        continue;
+      }
+      const FieldSample& g = field->end(d, k, p, sp.radius, pb.motion);
+      *deepest = std::max(*deepest, depthOf(g));
+      if (depthOf(g) <= o.penetration_tolerance) continue;
+      solved = false;
+      if (s->contact_of[d][k] >= fresh_from) continue;  // just detected: solved first
+      const Vec3 p0 = samplePosition(devices[d], start[d], sp);
+      SurfacePoint plane = planeForViolation(pb, root, sp, p0, p);
+      const int existing = s->contact_of[d][k];
+      if (existing >= 0 && !s->updated[existing]) {
+        // The paper's update: the tangent plane where x projects.
+        if (!plane.hit) continue;
+        Contact& ct = (*s->contacts)[existing];
+        ct.point = plane.point;
+        ct.normal = plane.normal;
+        s->updated[existing] = 1;
+        continue;
+      }
+      if (existing < 0) {
+        SurfacePoint hit = firstRoot(*pb.surface, p0, p, sp.radius, pb.motion, root);
+        if (hit.hit && !hit.started_outside) plane = hit;
+      }
+      // A new contact, or a second plane for a point violated again after
+      // its update (a concave wall: updates alone can oscillate; the extra
+      // plane only shrinks the admissible set, so the loop converges).
+      if (!plane.hit) continue;
+      s->contact_of[d][k] = static_cast<int>(s->contacts->size());
+      s->contacts->push_back(
+          {static_cast<int>(d), static_cast<int>(k), plane.point, plane.normal, 0, 0});
+      s->updated.push_back(0);
+    }
+  }
+  return solved;
+}
+
+/// Device points closer than the sum of their radii less the tolerance at
+/// x: a pair's normal updated once a step, or a new pair. Returns false
+/// when there is one.
+bool redetectPairs(const ContactProblem& pb, const ContactOptions& o, LoopState* s) {
+  bool solved = true;
+  const std::vector<PointRef> pts = freePoints(pb, s->x);
+  for (const Pair& pr : findPairs(*pb.devices, pts, -o.penetration_tolerance)) {
+    solved = false;
+    const PointRef &a = pts[pr.a], &b = pts[pr.b];
+    const auto it = s->pair_contact.find({a.device, a.sample, b.device, b.sample});
+    if (it != s->pair_contact.end() && !s->updated[it->second]) {
+      Contact& ct = (*s->contacts)[it->second];  // the pair's normal at x
+      ct.normal = pairNormalAt(pb, s->x, a, b);
+      ct.point = b.p;
+      s->updated[it->second] = 1;
+    } else {
+      addPair(pb, a, b, pairNormalAt(pb, s->x, a, b), s);
+      s->updated.push_back(0);
+    }
+  }
+  return solved;
+}
+
+/// Like wall contacts: a point still beyond the lumen has its contact moved
+/// to the tangent plane where it now lies, once; beyond it again, it gets a
+/// second plane (updates alone converge slowly: measured on
+/// carotid_catheter, nearly every step needed halving). Returns false when
+/// a point is beyond; *deepest grows to its excess [m].
+bool redetectLumen(const ContactProblem& pb, const ContactOptions& o, LoopState* s,
+                   double* deepest) {
+  bool solved = true;
+  for (const LumenViolation& v : lumenViolations(pb, s->x, o.penetration_tolerance, false)) {
+    solved = false;
+    *deepest = std::max(*deepest, v.location.excess());
+    const auto it = s->lumen_contact.find({v.device, v.sample});
+    if (it != s->lumen_contact.end() && !s->updated[it->second]) {
+      const Contact fresh = lumenContact(v, outerOf(pb, v.device));
+      Contact& ct = (*s->contacts)[it->second];
+      ct.point = fresh.point;
+      ct.normal = fresh.normal;
+      ct.other = fresh.other;
+      ct.separation = fresh.separation;
+      s->updated[it->second] = 1;
+    } else {
+      addLumen(pb, v, s);
+      s->updated.push_back(0);
+    }
+  }
+  return solved;
+}
+
+}  // namespace
+
+bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, SampleFields* field,
+                        LoopState* s, bool* detect_later, ContactStats* st) {
+  const RootOptions& root = o.root;
+  // With wall contacts kept from the last step, the paper's detection runs
+  // on the path to the first loop's iterate instead of the free motion's:
+  // a device held by its contacts swings millimetres away from them in the
+  // free motion, and crossings along that path are undone by the kept
+  // contacts in the first loop anyway (options.detect_on_first_iterate).
+  *detect_later =
+      o.detect_on_first_iterate && pb.surface && hasKeptWallContacts(pb, o.penetration_tolerance);
+  // A point beyond the wall where no plane can be found.
+  bool stranded = pb.surface && !*detect_later &&
+                  detectWallCrossings(pb, s->xf, root, field, s->contacts, &s->contact_of);
+  keepWallContacts(pb, root, o.penetration_tolerance, s->contacts, &s->contact_of);
+  if (*detect_later && s->contacts->empty()) {  // no kept contact found its plane
+    *detect_later = false;
+    stranded = detectWallCrossings(pb, s->xf, root, field, s->contacts, &s->contact_of);
+  }
+  // Device points closer than the sum of their radii at x_f.
+  if (o.device_contact) {
+    const auto tp = Clock::now();
+    const std::vector<PointRef> pts = freePoints(pb, s->xf);
+    for (const Pair& pr : findPairs(*pb.devices, pts, 0.0))
+      addPair(pb, pts[pr.a], pts[pr.b], pairNormalAt(pb, s->xf, pts[pr.a], pts[pr.b]), s);
+    ++st->pair_passes;
+    st->pairs_ms += msSince(tp);
+  }
+  if (pb.outer_of && !pb.outer_of->empty()) {  // effect 'coaxial'
+    const auto tl = Clock::now();
+    detectLumenContacts(pb, s);
+    ++st->lumen_passes;
+    st->lumen_ms += msSince(tl);
+  }
+  return stranded;
+}
+
+bool redetect(const ContactProblem& pb, const ContactOptions& o, SampleFields* field,
+              int fresh_from, LoopState* s, ContactStats* st) {
+  double deepest = 0.0;  // over all points at x: the step's penetration if this is the last loop
+  bool solved = true;
+  if (pb.surface) solved = redetectWalls(pb, o, field, fresh_from, s, &deepest);
+  st->max_penetration_m = deepest;
+  if (o.device_contact) {
+    const auto tp = Clock::now();
+    ++st->pair_passes;
+    solved = redetectPairs(pb, o, s) && solved;
+    st->pairs_ms += msSince(tp);
+  }
+  if (pb.outer_of && !pb.outer_of->empty()) {  // effect 'coaxial'
+    const auto tl = Clock::now();
+    ++st->lumen_passes;
+    solved = redetectLumen(pb, o, s, &deepest) && solved;
+    st->max_penetration_m = deepest;
+    st->lumen_ms += msSince(tl);
+  }
+  return solved;
+}
+
+bool checkTunnels(const ContactProblem& pb, const ContactOptions& o, SampleFields* field,
+                  LoopState* s, ContactStats* st) {
+  const auto& devices = *pb.devices;
+  const auto& start = *pb.start;
+  const auto& samples = *pb.samples;
+  bool none = true;
+  for (size_t d = 0; d < devices.size() && pb.surface; ++d) {
+    for (size_t k = 0; k < samples[d].size(); ++k) {
+      const SamplePoint& sp = samples[d][k];
+      if (!takesPart(pb, d, sp)) continue;
+      const Vec3 p0 = samplePosition(devices[d], start[d], sp);
+      const Vec3 p = samplePosition(devices[d], s->x[d], sp);
+      if (field->chordInside(d, k, p0, p)) continue;
+      const SurfacePoint exit =
+          tunnelExit(*pb.surface, p0, field->start(d, k, p0, sp.radius, pb.motion), p,
+                     field->end(d, k, p, sp.radius, pb.motion), sp.radius, pb.motion, o.root);
+      if (!exit.hit) continue;
+      ++st->tunnelled;
+      none = false;
+      s->contact_of[d][k] = static_cast<int>(s->contacts->size());
+      s->contacts->push_back(
+          {static_cast<int>(d), static_cast<int>(k), exit.point, exit.normal, 0, 0});
+      s->updated.push_back(0);
+    }
+  }
+  return none;
+}
+
+}  // namespace evsim::activation

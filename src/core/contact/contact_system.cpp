@@ -1,0 +1,340 @@
+// The linear problem of one activation loop (the paper's section 2.2): the
+// loop's free motion with the wall's curvature term (A + C), the rows of H
+// and q linearised at the loop's x, the Delassus operator W = H A^-1 H^T
+// per device (from the band of A^-1 or a block solve), and the correction
+// x = x_f + A^-1 H^T lambda. Called by resolveContacts (contact_solver.cpp)
+// through activation_loop.h.
+#include <algorithm>
+#include <cmath>
+
+#include "activation_loop.h"
+#include "endovascular_sim/contact/wall_curvature.h"
+#include "endovascular_sim/mechanics/elasticity.h"
+
+namespace evsim::activation {
+namespace {
+
+/// Orthonormal tangents of a contact plane: t1 along the device axis (its
+/// part across n), t2 = n x t1.
+std::array<Vec3, 2> tangentBasis(const Vec3& n, const Vec3& axis) {
+  Vec3 t1 = axis - axis.dot(n) * n;
+  if (t1.norm() < 1e-6) t1 = n.unitOrthogonal();
+  t1.normalize();
+  return {t1, n.cross(t1)};
+}
+
+/// True when two rows of H are the same (parts, offsets, coefficients).
+bool sameRow(const ContactRow& a, const ContactRow& b) {
+  if (a.parts != b.parts) return false;
+  for (int k = 0; k < a.parts; ++k)
+    if (a.offset[k] != b.offset[k] || a.h[k] != b.h[k]) return false;
+  return true;
+}
+/// C (contact/wall_curvature.h) of the wall contacts with a force, per
+/// device; A + C into the workspace's `curved_system`. (*curved)[d] says
+/// whether device d has such a term (else A alone). A + C is factorised
+/// where W will need it: for a device with at least kChainDelassusMinRows
+/// contacts, as its band (ws.inverse, whose block LDL^T also serves the
+/// solves), else by CHOLMOD (`curved`). (*band)[d] is updated; a band of
+/// A + C left from before becomes kNone.
+void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& contacts,
+                         const std::vector<DeviceState>& x, std::vector<ChainMatrix>* C,
+                         std::vector<char>* curved, std::vector<Band>* band) {
+  const auto& devices = *pb.devices;
+  auto& ws = *pb.workspaces;
+  const auto& samples = *pb.samples;
+  const size_t nd = devices.size();
+  C->assign(nd, ChainMatrix());
+  curved->assign(nd, 0);
+  for (Band& b : *band)
+    if (b == Band::kOfCurved) b = Band::kNone;
+  std::vector<int> rows(nd, 0);  // contacts with a part on each device (its rows of H)
+  for (const Contact& ct : contacts) {
+    ++rows[ct.device];
+    if (ct.other_device >= 0 && ct.other_device != ct.device) ++rows[ct.other_device];
+  }
+  for (const Contact& ct : contacts) {
+    if (ct.other_device >= 0 || !(ct.force > 0.0)) continue;
+    const int d = ct.device;
+    const SamplePoint& s = samples[d][ct.sample];
+    const int e = s.element;
+    if (e + 1 < ws[d].first_free_node) continue;  // both nodes held
+    std::array<Vec3, 2> t;
+    const Eigen::Matrix2d S =
+        wallCurvature(*pb.surface, ct.point, ct.normal, s.radius, pb.motion, &t);
+    if (S.isZero(0.0)) continue;
+    Eigen::Matrix<double, 2, 12> R;
+    R.row(0) = contactRow(devices[d], x[d], s, t[0]);
+    R.row(1) = contactRow(devices[d], x[d], s, t[1]);
+    const Eigen::Matrix<double, 12, 12> Ce = ct.force * R.transpose() * S * R;
+    ChainMatrix& Cd = (*C)[d];
+    if (Cd.numBlocks() == 0) {
+      Cd.resize(devices[d].num_nodes);
+      Cd.setZero();
+    }
+    Cd.diag[e] += Ce.topLeftCorner<6, 6>();
+    Cd.diag[e + 1] += Ce.bottomRightCorner<6, 6>();
+    Cd.upper[e] += Ce.topRightCorner<6, 6>();
+  }
+  for (size_t d = 0; d < nd; ++d) {
+    DeviceWorkspace& w = ws[d];
+    const int n = w.factor.size();
+    if ((*C)[d].numBlocks() == 0 || n == 0) continue;
+    ChainMatrix& Ac = w.curved_system;  // storage kept across loops and steps
+    Ac = w.system;
+    for (int i = 0; i < Ac.numBlocks(); ++i) {
+      Ac.diag[i] += (*C)[d].diag[i];
+      if (i + 1 < Ac.numBlocks()) Ac.upper[i] += (*C)[d].upper[i];
+    }
+    // (C is positive semi-definite, so this should not fail; if it does, A.)
+    if (rows[d] >= kChainDelassusMinRows) {
+      const bool ok = w.inverse.compute(Ac, w.first_free_node);
+      (*band)[d] = ok ? Band::kOfCurved : Band::kNone;
+      if (ok) {
+        (*curved)[d] = 1;
+        continue;
+      }
+    }
+    (*curved)[d] = w.curved.factorize(Ac, w.first_free_node) ? 1 : 0;
+  }
+}
+
+/// The QP step's free motion about the iterate dq for the devices with a
+/// curvature term: (*dq_step)[d] = (A + C)^-1 (A dq_free + C dq_k), and
+/// their factor that of A + C. Others keep A and dq_free. The solve uses
+/// the band's block LDL^T where it holds A + C, else the device's factor
+/// of A + C.
+void curvedFreeMotion(const ContactProblem& pb, const std::vector<ChainMatrix>& C,
+                      const std::vector<char>& curved, const std::vector<Band>& band,
+                      const std::vector<VecX>& dq, std::vector<VecX>* dq_step,
+                      std::vector<const ChainFactor*>* factor) {
+  auto& ws = *pb.workspaces;
+  for (size_t d = 0; d < curved.size(); ++d) {
+    if (!curved[d]) continue;
+    DeviceWorkspace& w = ws[d];
+    const int n = w.factor.size(), held = 6 * w.first_free_node;
+    VecX free = (*dq_step)[d], iterate = dq[d];
+    free.head(held).setZero();
+    iterate.head(held).setZero();
+    VecX rhs = (w.system.multiply(free) + C[d].multiply(iterate)).tail(n);
+    (*factor)[d] = band[d] == Band::kOfCurved ? &w.inverse.factor() : &w.curved;
+    (*factor)[d]->solveInPlace(&rhs);
+    (*dq_step)[d].tail(n) = rhs;
+  }
+}
+}  // namespace
+
+void prepareFreeMotion(const ContactProblem& pb, const ContactOptions& o, int loop, LoopState* s,
+                       LoopSystem* sys) {
+  auto& ws = *pb.workspaces;
+  const size_t nd = ws.size();
+  sys->factor.resize(nd);
+  sys->dq_step = s->dq_free;
+  for (size_t d = 0; d < nd; ++d) sys->factor[d] = &ws[d].factor;
+  if (!o.wall_curvature || !pb.surface) return;
+  // C from the last loop's forces for the first curvature_loops loops;
+  // later loops keep it (and the band of (A + C)^-1): at the answer
+  // dq = dq_k, so C shapes the path, not the step's solution.
+  if (loop <= o.curvature_loops) {
+    const std::vector<Band> before = s->band;
+    factorWallCurvature(pb, *s->contacts, s->x, &s->curvature, &s->curved, &s->band);
+    for (size_t d = 0; d < nd; ++d) {
+      if (s->band[d] != before[d] || s->band[d] == Band::kOfCurved) {
+        s->last_rows[d].clear();  // W of another matrix: nothing to reuse
+        s->last_W[d].size = 0;
+      }
+    }
+  }
+  curvedFreeMotion(pb, s->curvature, s->curved, s->band, s->dq, &sys->dq_step, &sys->factor);
+}
+
+namespace {
+
+/// A part of a row of H on one device: (row, element, signed row of H).
+struct Part {
+  int row, element;
+  Row12 h;
+};
+
+/// The rows of H and q at x, as parts per device.
+void formRows(const ContactProblem& pb, const ContactOptions& o, const LoopState& s,
+              LoopSystem* sys, std::vector<std::vector<Part>>* parts) {
+  const auto& devices = *pb.devices;
+  const auto& start = *pb.start;
+  const auto& samples = *pb.samples;
+  const std::vector<DeviceState>& x = s.x;
+  const int dim = o.friction ? 3 : 1;
+  // The rows are linearised at x, the configuration of the last loop (x_f
+  // in the first): g(x_f + A^-1 H^T lambda) ~ g(x) + H (x_f - x) + W lambda.
+  // Linearised at x_f throughout, a loop whose correction moves points far
+  // from x_f (a pre-shaped tip squeezed into a narrow lumen springs open by
+  // millimetres in the free motion) keeps stale rows and stops converging.
+  // Adds the part's row of H at x; returns its share of H (x_f - x).
+  auto addPart = [&](int row, int device, const SamplePoint& sp, const Vec3& n, double sign) {
+    const Row12 h = sign * contactRow(devices[device], x[device], sp, n);
+    (*parts)[device].push_back({row, sp.element, h});
+    const int at = 6 * sp.element;
+    return h.dot(sys->dq_step[device].segment<12>(at) - s.dq[device].segment<12>(at));
+  };
+  for (int i = 0; i < sys->c; ++i) {
+    Contact& ct = (*s.contacts)[i];
+    const SamplePoint& sp = samples[ct.device][ct.sample];
+    const Vec3 p = samplePosition(devices[ct.device], x[ct.device], sp);
+    const int row = dim * i;
+    sys->q(row) = addPart(row, ct.device, sp, ct.normal, 1.0);
+    const SamplePoint* so = nullptr;
+    Vec3 po = Vec3::Zero();
+    if (ct.other_device < 0) {
+      sys->q(row) += ct.normal.dot(p - ct.point);
+    } else {
+      so = &ct.other;
+      po = samplePosition(devices[ct.other_device], x[ct.other_device], *so);
+      sys->q(row) += ct.normal.dot(p - po) - ct.separation +
+                     addPart(row, ct.other_device, *so, ct.normal, -1.0);
+    }
+    if (!o.friction) continue;
+    // Tangent rows: q is the slip over the step (relative to the other
+    // point for pairs).
+    sys->tangents[i] = tangentBasis(ct.normal, sampleTangent(x[ct.device], sp));
+    Vec3 slip = p - samplePosition(devices[ct.device], start[ct.device], sp);
+    if (so) slip -= po - samplePosition(devices[ct.other_device], start[ct.other_device], *so);
+    sys->mu(i) = so ? std::sqrt(sp.friction * so->friction) : sp.friction;
+    for (int k = 0; k < 2; ++k) {
+      const Vec3& t = sys->tangents[i][k];
+      sys->q(row + 1 + k) = t.dot(slip) + addPart(row + 1 + k, ct.device, sp, t, 1.0);
+      if (so) sys->q(row + 1 + k) += addPart(row + 1 + k, ct.other_device, *so, t, -1.0);
+    }
+  }
+}
+
+/// Device d's rows of H (a self contact's two parts in one row), in the
+/// order of their first part; (*of_device) their rows in the problem.
+void deviceRows(const std::vector<Part>& parts, int first_free_node, int m,
+                std::vector<int>* column_of_row, std::vector<int>* of_device,
+                std::vector<ContactRow>* device_rows) {
+  column_of_row->assign(m, -1);  // row -> its column in this device's operator
+  for (const Part& pt : parts) {
+    const Row12& h = pt.h;
+    const int offset = 6 * (pt.element - first_free_node);
+    int& column = (*column_of_row)[pt.row];
+    if (column < 0) {
+      column = static_cast<int>(device_rows->size());
+      of_device->push_back(pt.row);
+      ContactRow row;
+      row.offset[0] = offset;
+      row.h[0] = h;
+      device_rows->push_back(row);
+    } else {  // a self contact: its second part on the same device
+      ContactRow& row = (*device_rows)[column];
+      row.offset[1] = offset;
+      row.h[1] = h;
+      row.parts = 2;
+    }
+  }
+}
+
+/// Device d's operator H_d A^-1 H_d^T: from the block solve below
+/// kChainDelassusMinRows rows (*Wd, and Y), else from the band (kept in
+/// s->last_W[d] for the next loop; returned).
+const DelassusBuffer* deviceOperator(const ContactProblem& pb, size_t d, LoopState* s,
+                                     LoopSystem* sys, MatX* Wd) {
+  auto& ws = *pb.workspaces;
+  const std::vector<ContactRow>& device_rows = sys->rows_of[d];
+  if (static_cast<int>(device_rows.size()) < kChainDelassusMinRows) {
+    delassusOperator(*sys->factor[d], device_rows, &sys->Y[d], Wd);
+    return nullptr;
+  }
+  // The band of (A + C)^-1 whenever C changed, of A once a step, from
+  // the factor this loop steps with.
+  const Band wanted = s->curved[d] ? Band::kOfCurved : Band::kOfA;
+  if (s->band[d] != wanted) {
+    ws[d].inverse.computeFrom(*sys->factor[d]);
+    s->band[d] = wanted;
+    s->last_rows[d].clear();  // nothing to reuse
+    s->last_W[d].size = 0;
+  }
+  sys->Y[d].resize(0, 0);
+  // Rows unchanged since the last loop (same normal, and for a sample
+  // at a node no tangent term) keep their entries among themselves.
+  const std::vector<ContactRow>& before = s->last_rows[d];
+  std::vector<char> changed(before.size(), 1);
+  for (size_t r = 0; r < before.size() && r < device_rows.size(); ++r)
+    changed[r] = !sameRow(before[r], device_rows[r]);
+  updateChainDelassusOperator(ws[d].inverse, device_rows, changed, &s->last_W[d]);
+  s->last_rows[d] = device_rows;
+  return &s->last_W[d];
+}
+
+}  // namespace
+
+void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopState* s,
+                        LoopSystem* sys) {
+  const size_t nd = pb.devices->size();
+  const int m = sys->m;
+  sys->q.resize(m);
+  sys->mu.resize(o.friction ? sys->c : 0);
+  if (o.friction) sys->tangents.resize(sys->c);
+  std::vector<std::vector<Part>> parts(nd);
+  formRows(pb, o, *s, sys, &parts);
+  sys->of_device.assign(nd, {});
+  sys->rows_of.assign(nd, {});
+  sys->Y.assign(nd, MatX());
+  std::vector<int> column_of_row;
+  for (size_t d = 0; d < nd; ++d) {
+    if (parts[d].empty()) continue;
+    deviceRows(parts[d], (*pb.workspaces)[d].first_free_node, m, &column_of_row, &sys->of_device[d],
+               &sys->rows_of[d]);
+    MatX Wd;
+    const DelassusBuffer* kept = deviceOperator(pb, d, s, sys, &Wd);
+    const MatXView Wdev = kept ? kept->view() : MatXView(Wd);  // this device's operator
+    const auto& idx = sys->of_device[d];
+    bool identity = !sys->W_device && sys->W_sum.size() == 0 && static_cast<int>(idx.size()) == m;
+    for (size_t a = 0; a < idx.size() && identity; ++a) identity = idx[a] == static_cast<int>(a);
+    if (identity) {  // one device holds every row, in order: W is its operator
+      if (kept)
+        sys->W_device = kept;  // last_W[d], unchanged until the next loop
+      else
+        sys->W_sum.swap(Wd);
+      continue;
+    }
+    if (sys->W_device) {  // a device before held every row, and this one shares some
+      sys->W_sum = sys->W_device->view();
+      sys->W_device = nullptr;
+    }
+    if (sys->W_sum.size() == 0) sys->W_sum = MatX::Zero(m, m);
+    for (size_t b = 0; b < idx.size(); ++b)  // column by column (W is column-major)
+      for (size_t a = 0; a < idx.size(); ++a) sys->W_sum(idx[a], idx[b]) += Wdev(a, b);
+  }
+  if (!sys->W_device && sys->W_sum.size() == 0) sys->W_sum = MatX::Zero(m, m);
+}
+
+void correctMotion(const ContactProblem& pb, const ContactOptions& o, const LoopSystem& sys,
+                   const VecX& lambda, LoopState* s) {
+  auto& ws = *pb.workspaces;
+  const size_t nd = ws.size();
+  const int dim = o.friction ? 3 : 1;
+  for (size_t d = 0; d < nd; ++d) {
+    s->dq[d] = sys.dq_step[d];
+    const auto& idx = sys.of_device[d];
+    if (idx.empty()) continue;
+    VecX l(idx.size());
+    for (size_t j = 0; j < idx.size(); ++j) l(j) = lambda(idx[j]);
+    const int n = sys.factor[d]->size();
+    if (sys.Y[d].size() > 0) {
+      s->dq[d].tail(n) += sys.Y[d] * l;
+    } else {
+      VecX correction = contactForce(n, sys.rows_of[d], l);
+      ws[d].inverse.solveInPlace(&correction);  // the LDL^T of the band's matrix
+      s->dq[d].tail(n) += correction;
+    }
+  }
+  s->x = moved(*pb.start, s->dq);
+  for (int i = 0; i < sys.c; ++i) {
+    Contact& ct = (*s->contacts)[i];
+    ct.force = lambda(dim * i);
+    if (o.friction)
+      ct.friction = lambda(3 * i + 1) * sys.tangents[i][0] + lambda(3 * i + 2) * sys.tangents[i][1];
+  }
+}
+
+}  // namespace evsim::activation
