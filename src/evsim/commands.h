@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace evsim {
 
@@ -47,6 +48,21 @@ struct NavigateOptions {
 /// `evsim navigate`: the autopilot drives the scene's devices to a vessel; a
 /// line per phase and a JSON summary. Exit 0 when reached, 1 when not.
 int navigateScene(const NavigateOptions& options);
+
+struct NavigationBenchOptions {
+  std::vector<std::string> arch_scenes{"arch_navigation", "arch_navigation_headhunter"};
+  std::string network_scene{"network_navigation"};
+  int network_targets{50};  // drawn from the network (0: the arch alone)
+  int min_branchings{3};    // bifurcations passed from the access to a network target
+  int max_branchings{6};
+  unsigned seed{1};
+  int jobs{1};           // runs at once (each on its own copy of the scene)
+  double timeout{60.0};  // [s] simulated per run
+  std::string csv;       // every run's row ("" none)
+};
+/// `evsim bench navigation`: the autopilot on the arch scenes' targets and
+/// on targets drawn in the network; a line per run, a summary, a CSV.
+int benchNavigation(const NavigationBenchOptions& options);
 
 struct MeshOptions {
   std::string scene;

@@ -34,8 +34,25 @@ void addRun(CLI::App& app, RunOptions* o) {
                 "the recovery options and say so)");
 }
 
-void addBench(CLI::App& app, BenchOptions* o, std::string* what, double* duration,
-              std::string* csv) {
+void addNavigationBench(CLI::App* bench, NavigationBenchOptions* o) {
+  CLI::App* nav = bench->add_subcommand(
+      "navigation", "the autopilot on the arch's targets and on targets drawn in the network");
+  nav->add_option("--arch-scenes", o->arch_scenes, "scenes whose targets are run")->delimiter(',');
+  nav->add_option("--network-scene", o->network_scene, "the network scene targets are drawn in");
+  nav->add_option("--network-targets", o->network_targets, "targets drawn (0: the arch alone)")
+      ->check(CLI::Range(0, 10000));
+  nav->add_option("--min-branchings", o->min_branchings, "bifurcations to a target, at least")
+      ->check(CLI::Range(1, 50));
+  nav->add_option("--max-branchings", o->max_branchings, "and at most")->check(CLI::Range(1, 50));
+  nav->add_option("--seed", o->seed, "seed of the draw");
+  nav->add_option("--jobs", o->jobs, "runs at once")->check(CLI::Range(1, 64));
+  nav->add_option("--timeout", o->timeout, "simulated seconds per run")
+      ->check(CLI::Range(0.01, 3600.0));
+  nav->add_option("--csv", o->csv, "write every run's row here");
+}
+
+void addBench(CLI::App& app, BenchOptions* o, std::string* what, double* duration, std::string* csv,
+              NavigationBenchOptions* nav) {
   CLI::App* bench = app.add_subcommand(
       "bench",
       "step times over the scene's whole procedure and per phase (free, contact, "
@@ -59,6 +76,7 @@ void addBench(CLI::App& app, BenchOptions* o, std::string* what, double* duratio
   accuracy->add_option("--duration", *duration, "simulated seconds per run")
       ->check(CLI::Range(1e-3, 60.0));
   accuracy->add_option("--csv", *csv, "write the rows here instead of stdout");
+  addNavigationBench(bench, nav);
 }
 
 void addMesh(CLI::App& app, MeshOptions* o) {
@@ -98,10 +116,11 @@ int dispatch(int argc, char** argv) {
   BenchOptions bench;
   MeshOptions mesh;
   NavigateOptions navigate;
+  NavigationBenchOptions navigation_bench;
   std::string what, csv;
   double duration = 2.0;
   addRun(app, &run);
-  addBench(app, &bench, &what, &duration, &csv);
+  addBench(app, &bench, &what, &duration, &csv, &navigation_bench);
   addMesh(app, &mesh);
   addNavigate(app, &navigate);
   app.add_subcommand("list", "the shipped scenes");
@@ -127,6 +146,13 @@ int dispatch(int argc, char** argv) {
   }
   CLI::App* b = app.get_subcommand("bench");
   if (b->got_subcommand("accuracy")) return accuracyCommand(what, duration, csv);
+  if (b->got_subcommand("navigation")) {
+    if (navigation_bench.min_branchings > navigation_bench.max_branchings) {
+      std::cerr << "evsim bench navigation: --min-branchings exceeds --max-branchings\n";
+      return kExitBadInput;
+    }
+    return benchNavigation(navigation_bench);
+  }
   if (bench.scene.empty()) {
     std::cerr << "evsim bench: needs a SCENE (or 'accuracy'); evsim bench --help\n";
     return kExitBadInput;

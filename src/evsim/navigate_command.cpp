@@ -22,24 +22,11 @@ int navigateScene(const NavigateOptions& o) {
     std::cout << "navigate " << model.name << ": " << model.devices[pilot.device()].name << " to "
               << atlas.vessels()[pilot.target()].name << " (" << plan << ")\n";
   }
-  const long max_steps = static_cast<long>((o.timeout + 1.0) / model.time_step);
-  for (long k = 0; k < max_steps && !pilot.done(); ++k) {
-    const std::string line = pilot.control(model, &data);
-    if (!line.empty() && !o.json_only) std::cout << line << "\n";
-    StepStatus status = step(model, &data);
-    if (status != StepStatus::kOk) {  // once more with the recovery options, and say so
-      std::cerr << "evsim: step " << data.step + 1 << " at t = " << data.time
-                << " s: " << data.last_error << "; retried with the recovery options\n";
-      status = step(recoveryModel(model), &data);
-    }
-    pilot.observe(data, status != StepStatus::kOk);
-    if (status != StepStatus::kOk) {
-      std::cerr << "evsim: step " << data.step + 1 << " failed: " << data.last_error << "\n";
-      break;
-    }
-    data.notices.clear();
-  }
-  const AutopilotReport& r = pilot.report();
+  // (pilot: the plan and names; the run steps its own from the same state)
+  const AutopilotReport r =
+      runAutopilot(model, &data, o.target, o.device, options, [&](const std::string& line) {
+        if (!o.json_only) std::cout << line << "\n";
+      });
   char json[512];
   std::snprintf(json, sizeof(json),
                 "{\"scene\":\"%s\",\"target\":\"%s\",\"device\":\"%s\",\"reached\":%s,"
@@ -47,9 +34,8 @@ int navigateScene(const NavigateOptions& o) {
                 "\"failed_steps\":%ld,\"remaining_path_m\":%.4f,\"final_vessel\":\"%s\"}",
                 model.name.c_str(), atlas.vessels()[pilot.target()].name.c_str(),
                 model.devices[pilot.device()].name.c_str(), r.reached ? "true" : "false",
-                r.reached ? "" : (r.reason.empty() ? "a step failed" : r.reason.c_str()), r.time,
-                r.retries, r.peak_wall_force, r.failed_steps, r.remaining_path,
-                atlas.vessels()[data.tips[pilot.device()].vessel].name.c_str());
+                r.reason.c_str(), r.time, r.retries, r.peak_wall_force, r.failed_steps,
+                r.remaining_path, atlas.vessels()[data.tips[pilot.device()].vessel].name.c_str());
   std::cout << json << "\n";
   return r.reached ? kExitOk : kExitFailure;
 }

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 namespace evsim {
 namespace {
@@ -143,6 +144,63 @@ TEST(EvsimCli, NavigateRefusesAnUnknownTargetAndReportsAReachedOne) {
   EXPECT_TRUE(says(reached, "\"reached\":true")) << reached.output;
   EXPECT_TRUE(says(reached, "\"failed_steps\":0")) << reached.output;
   EXPECT_TRUE(says(reached, "\"final_vessel\":\"left_subclavian\"")) << reached.output;
+}
+
+/// The rows of a CSV file (the header first).
+std::vector<std::vector<std::string>> csvRows(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::vector<std::string>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::string cell;
+    bool quoted = false;
+    for (char ch : line) {
+      if (ch == '"')
+        quoted = !quoted;
+      else if (ch == ',' && !quoted)
+        cells.push_back(cell), cell.clear();
+      else
+        cell += ch;
+    }
+    cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+TEST(EvsimCli, NavigationBenchDrawsItsNetworkTargetsFromTheSeed) {
+  auto draw = [](int seed) {
+    const std::string csv = "/tmp/evsim_cli_navigation_" + std::to_string(seed) + ".csv";
+    const Outcome o = evsim(
+        "bench navigation --arch-scenes '' --network-targets 3 --timeout 0.02 "
+        "--seed " +
+        std::to_string(seed) + " --csv " + csv);
+    EXPECT_EQ(o.code, 0) << o.output;
+    EXPECT_TRUE(says(o, "network  reached 0 of 3")) << o.output;  // 20 ms: nowhere yet
+    std::vector<std::string> targets;
+    const auto rows = csvRows(csv);
+    EXPECT_EQ(rows.size(), 4u);
+    for (size_t i = 1; i < rows.size(); ++i) {
+      EXPECT_EQ(rows[i][0], "network");
+      const int branchings = std::stoi(rows[i][3]);
+      EXPECT_GE(branchings, 3);
+      EXPECT_LE(branchings, 6);
+      EXPECT_EQ(rows[i][4], "0");
+      EXPECT_EQ(rows[i][5], "out of time");
+      targets.push_back(rows[i][2]);
+    }
+    return targets;
+  };
+  const std::vector<std::string> first = draw(1);
+  EXPECT_EQ(draw(1), first);  // reproducible
+  EXPECT_NE(draw(2), first);  // and the seed's
+  const Outcome order = evsim("bench navigation --min-branchings 5 --max-branchings 3");
+  EXPECT_EQ(order.code, 2);
+  EXPECT_TRUE(says(order, "--min-branchings exceeds --max-branchings")) << order.output;
+  const Outcome scene = evsim("bench navigation --arch-scenes carotid --network-targets 0");
+  EXPECT_EQ(scene.code, 2);
+  EXPECT_TRUE(says(scene, "names no targets")) << scene.output;
 }
 
 }  // namespace

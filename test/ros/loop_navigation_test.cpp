@@ -25,15 +25,7 @@ bool eventually(const std::function<bool()>& condition, int limit_s) {
 /// The same navigation headless, as `evsim navigate` runs it.
 AutopilotReport headless(const SceneModel& model, const std::string& target) {
   SimData data = makeData(model);
-  Autopilot pilot(model, data, target);
-  while (!pilot.done()) {
-    pilot.control(model, &data);
-    bool recovered = false;
-    const StepStatus status = stepOrRecover(model, &data, &recovered);
-    pilot.observe(data, status != StepStatus::kOk);
-    if (status != StepStatus::kOk) break;
-  }
-  return pilot.report();
+  return runAutopilot(model, &data, target);
 }
 
 class LoopNavigation : public ::testing::Test {

@@ -14,6 +14,7 @@
 // out of time).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -124,5 +125,14 @@ class Autopilot {
   double travel_{1.0};  // direction of travel along the host (+1: away from its origin)  // [rad]
                         // the last aim error, for its sign near a half turn
 };
+
+/// Runs the autopilot headless from `data` until it ends, as `evsim
+/// navigate` does: a step the scene's options cannot solve is tried once
+/// more with the recovery options (stepOrRecover); a step that fails even
+/// so ends the run (counted in failed_steps). `on_line` gets each phase line
+/// and each recovery. Throws LoadError for a target the autopilot refuses.
+AutopilotReport runAutopilot(const SceneModel& model, SimData* data, const std::string& target,
+                             const std::string& device = "", const AutopilotOptions& options = {},
+                             const std::function<void(const std::string&)>& on_line = {});
 
 }  // namespace evsim

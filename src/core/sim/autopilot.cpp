@@ -105,12 +105,17 @@ void Autopilot::drive(const SceneModel& model, SimData* data, double insertion_s
   lead.rotation = std::clamp(rotation_speed, -m.max_rotation_speed, m.max_rotation_speed);
   data->commands[lead_] = lead;
   if (follow_ < 0) return;
-  // The outer device keeps its tip follow_lag behind the inner one's.
+  // The outer device keeps its tip follow_lag behind the inner one's, but
+  // goes no deeper once its tip is in a vessel too narrow for it (less than
+  // twice its radius): the wire goes on alone, as beyond a guiding catheter.
   const DeviceModel& o = model.devices[follow_];
   DriveCommand outer;
   outer.mode = DriveCommand::Mode::kPosition;
   outer.insertion =
       std::clamp(data->devices[lead_].inserted_length - options_.follow_lag, 0.0, o.length);
+  const int outer_vessel = data->tips[follow_].vessel;
+  if (outer_vessel >= 0 && model.atlas->vessels()[outer_vessel].radius < 2.0 * o.node_radius.back())
+    outer.insertion = std::min(outer.insertion, data->devices[follow_].inserted_length);
   outer.rotation = data->devices[follow_].rotation_angle;
   data->commands[follow_] = outer;
 }
@@ -326,7 +331,11 @@ std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
                                 : 0.0;
         if (branch != branch_) travel_ = atlas.vessels()[branch].origin_depth >= from ? 1.0 : -1.0;
       }
-    if (branch < 0) {  // the catheter is in the target, or no turn is left: the wire alone
+    // The catheter is in the target, no turn is left, or the next branch is
+    // too narrow for the catheter (less than twice its radius): the wire
+    // goes on alone, the catheter trailing where it fits.
+    if (branch < 0 ||
+        atlas.vessels()[branch].radius < 2.0 * model.devices[follow_].node_radius.back()) {
       stage_ = PairStage::kOver;
       return "";
     }
@@ -525,7 +534,18 @@ std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
         best_remaining_ = 1e9;
         return stage(PairStage::kLead, "catheter in " + atlas.vessels()[cath_at.vessel].name);
       }
-      command(lead_, vel, 0.0, 0.0);
+      // The wire holds in the target's own branch (its dwell is judged);
+      // toward a deeper target it goes on slowly, steered away from other
+      // ostia, so that the catheter can follow it past the ostium.
+      double advance = 0.0, turn = 0.0;
+      if (branch_ != target_) {
+        const Aim aim = aimFor(model, *data, lead_, path);
+        turn = aim.wanted ? tipBendAngle(model, *data, lead_, aim.direction) : 0.0;
+        advance = aim.wanted && aim.toward_path && std::abs(turn) > options_.aim_tolerance
+                      ? 0.0
+                      : 0.5 * options_.advance_speed;
+      }
+      command(lead_, vel, advance, options_.rotation_gain * turn);
       command(follow_, pos, wire.inserted_length - 0.02, cath.rotation_angle);
       if (wire_off_plan) return stage(PairStage::kLead, "");
       return "";

@@ -1,0 +1,182 @@
+// `evsim bench navigation`: the autopilot on every target of the arch
+// scenes from the femoral access, and on targets drawn with a fixed seed
+// 3-6 bifurcations deep in the 4,000-vessel network; a line per run, a
+// summary per group (success rate, time to target, peak wall force) and a
+// CSV of every run.
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <random>
+#include <thread>
+
+#include "commands.h"
+#include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/sim/autopilot.h"
+
+namespace evsim {
+namespace {
+
+struct Case {
+  std::string group;  // "arch" or "network"
+  std::string scene;
+  std::string target;
+  std::string device;
+  int branchings{0};  // bifurcations passed from the access to the target
+};
+
+struct Outcome {
+  AutopilotReport report;
+  double wall_s{0.0};
+};
+
+/// Branches entered (parent into child) along the atlas path from a to b.
+int branchingsAlong(const VesselAtlas& atlas, int from, int to) {
+  const std::vector<int> path = atlas.path(from, to);
+  int n = 0;
+  for (size_t i = 0; i + 1 < path.size(); ++i) n += atlas.vessels()[path[i + 1]].parent == path[i];
+  return n;
+}
+
+/// The network's targets: every vessel `min..max` bifurcations from where
+/// the innermost device's tip starts, wide enough for that tip; `count` of
+/// them drawn with the seed (in vessel order, then shuffled).
+std::vector<Case> networkCases(const NavigationBenchOptions& o) {
+  const SceneModel model = loadScene(o.network_scene);
+  if (!model.atlas) throw LoadError(model.file, 0, "vessels", "the scene has no vessels");
+  const SimData data = makeData(model);
+  const Autopilot probe(model, data, model.atlas->vessels().front().name);  // its device choice
+  const int device = probe.device();
+  const int entry = data.tips[device].vessel;
+  const double tip_radius = model.devices[device].node_radius.back();
+  std::vector<Case> all;
+  const auto& vessels = model.atlas->vessels();
+  for (size_t v = 0; v < vessels.size(); ++v) {
+    const int n = branchingsAlong(*model.atlas, entry, static_cast<int>(v));
+    if (n < o.min_branchings || n > o.max_branchings || vessels[v].radius <= 1.5 * tip_radius)
+      continue;
+    all.push_back({"network", o.network_scene, vessels[v].name, "", n});
+  }
+  std::mt19937 random(o.seed);
+  std::shuffle(all.begin(), all.end(), random);
+  if (static_cast<int>(all.size()) > o.network_targets) all.resize(o.network_targets);
+  return all;
+}
+
+std::vector<Case> archCases(const NavigationBenchOptions& o) {
+  std::vector<Case> cases;
+  for (const std::string& scene : o.arch_scenes) {
+    if (scene.empty()) continue;  // (--arch-scenes "": the network alone)
+    const SceneModel model = loadScene(scene);
+    if (model.targets.empty())
+      throw LoadError(model.file, 0, "targets", "the scene names no targets to navigate to");
+    const SimData data = makeData(model);
+    for (const Target& t : model.targets) {
+      const int d = t.device >= 0 ? t.device : 0;
+      cases.push_back({"arch", scene, t.spec.vessel, t.spec.device,
+                       branchingsAlong(*model.atlas, data.tips[d].vessel, t.vessel)});
+    }
+  }
+  return cases;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+void printSummary(const std::string& group, const std::vector<Case>& cases,
+                  const std::vector<Outcome>& out) {
+  std::vector<double> times, forces;
+  int runs = 0, reached = 0;
+  long failed_steps = 0;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    if (cases[i].group != group) continue;
+    ++runs;
+    failed_steps += out[i].report.failed_steps;
+    forces.push_back(out[i].report.peak_wall_force);
+    if (!out[i].report.reached) continue;
+    ++reached;
+    times.push_back(out[i].report.time);
+  }
+  if (runs == 0) return;
+  std::printf("%-8s reached %d of %d (%.0f %%)", group.c_str(), reached, runs,
+              100.0 * reached / runs);
+  if (!times.empty())
+    std::printf("; time to target median %.2f s, worst %.2f s", median(times),
+                *std::max_element(times.begin(), times.end()));
+  std::printf("; peak wall force median %.3g N, max %.3g N; failed steps %ld\n", median(forces),
+              *std::max_element(forces.begin(), forces.end()), failed_steps);
+}
+
+}  // namespace
+
+int benchNavigation(const NavigationBenchOptions& o) {
+  std::vector<Case> cases = archCases(o);  // LoadError: main reports it (exit 2)
+  if (o.network_targets > 0) {
+    const std::vector<Case> network = networkCases(o);
+    cases.insert(cases.end(), network.begin(), network.end());
+  }
+  std::ofstream csv;
+  if (!o.csv.empty()) {
+    csv.open(o.csv);
+    if (!csv) {
+      std::cerr << "evsim: cannot write " << o.csv << "\n";
+      return kExitBadInput;
+    }
+  }
+  std::printf("navigation benchmark: %zu runs, %d job(s), timeout %.0f s simulated each\n",
+              cases.size(), o.jobs, o.timeout);
+  std::vector<Outcome> out(cases.size());
+  std::atomic<size_t> next{0};
+  std::mutex print;
+  auto worker = [&]() {
+    for (size_t i = next++; i < cases.size(); i = next++) {
+      const Case& c = cases[i];
+      const auto t0 = std::chrono::steady_clock::now();
+      const SceneModel model = loadScene(c.scene);  // its own: nothing shared between jobs
+      SimData data = makeData(model);
+      AutopilotOptions options;
+      options.timeout = o.timeout;
+      try {
+        out[i].report = runAutopilot(model, &data, c.target, c.device, options);
+      } catch (const LoadError& e) {
+        out[i].report.reason = std::string("refused: ") + e.what();
+      }
+      out[i].wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const AutopilotReport& r = out[i].report;
+      std::lock_guard<std::mutex> lock(print);
+      std::printf("%-8s %-28s %-34s %d  %s  %6.2f s  %2d retries  %.3g N  (%.0f s wall)%s%s\n",
+                  c.group.c_str(), c.scene.c_str(), c.target.c_str(), c.branchings,
+                  r.reached ? "reached" : "NOT    ", r.time, r.retries, r.peak_wall_force,
+                  out[i].wall_s, r.reached ? "" : ": ", r.reached ? "" : r.reason.c_str());
+      std::fflush(stdout);
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int j = 0; j < std::max(1, o.jobs); ++j) threads.emplace_back(worker);
+  for (std::thread& t : threads) t.join();
+
+  printSummary("arch", cases, out);
+  printSummary("network", cases, out);
+  if (csv) {
+    csv << "group,scene,target,branchings,reached,reason,time_s,retries,peak_wall_force_N,"
+           "failed_steps,wall_s\n";
+    for (size_t i = 0; i < cases.size(); ++i) {
+      const AutopilotReport& r = out[i].report;
+      std::string reason = r.reason;
+      std::replace(reason.begin(), reason.end(), '"', '\'');
+      csv << cases[i].group << ',' << cases[i].scene << ',' << cases[i].target << ','
+          << cases[i].branchings << ',' << (r.reached ? 1 : 0) << ",\"" << reason << "\"," << r.time
+          << ',' << r.retries << ',' << r.peak_wall_force << ',' << r.failed_steps << ','
+          << out[i].wall_s << '\n';
+    }
+  }
+  return kExitOk;
+}
+
+}  // namespace evsim
