@@ -100,7 +100,31 @@ class Autopilot {
   /// Then (stage kOver) control() steers the wire with the catheter following.
   std::string controlPair(const SceneModel& model, SimData* data, const std::vector<int>& path,
                           double t);
+  // The pair technique's parts (sim/autopilot_pair.cpp).
+  struct PairView;  // what the screen shows of the pair at the branch it engages
+  /// The branch of `plan` the catheter engages next (host_, branch_); false
+  /// when none is left or it is too narrow for the catheter.
+  bool choosePairBranch(const SceneModel& model, const SimData& data, const std::vector<int>& plan);
+  std::string leadStage(const PairView& v);
+  std::string backOutStage(const PairView& v);
+  std::string parkStage(const PairView& v);
+  std::string engageStage(const PairView& v);
+  std::string wireInStage(const PairView& v);
+  std::string followStage(const PairView& v);
+  static void command(const SceneModel& model, SimData* data, int device, DriveCommand::Mode mode,
+                      double insertion, double rotation);
+  enum class PairStage;
+  /// Moves to stage `next`: its line ("" when already there).
+  std::string stageTo(PairStage next, const std::string& what, double t);
+  /// Counts a retry; past the limit fails (reason "retries exhausted (N)`why`")
+  /// and returns the failure's line, else "".
+  std::string retryOrFail(const std::string& why, double t);
   std::string setPhase(AutopilotPhase phase, const std::string& why, double t);
+  /// Why the tip must be pulled back and the approach repeated (a wrong
+  /// vessel, slid past the ostium, no progress), and *pull [m]; "" if not.
+  std::string retryWhy(const VesselAtlas& atlas, const std::vector<int>& plan,
+                       const std::vector<int>& path, const VesselLocation& at, double remaining,
+                       double t, double* pull) const;
   void drive(const SceneModel& model, SimData* data, double insertion_speed, double rotation);
   void fail(const std::string& why, double t);
 
@@ -119,7 +143,7 @@ class Autopilot {
   std::vector<TargetProgress> goal_progress_;  // the target's dwell, judged every step
   int current_vessel_{-1};
   double last_turn_{0.0};
-  enum class PairStage { kLead, kBackOut, kPark, kEngage, kWireIn, kFollow, kOver };
+  enum class PairStage { kLead, kBackOut, kPark, kEngage, kWireIn, kFollow, kOver };  // NOLINT
   PairStage stage_{PairStage::kLead};
   int host_{-1}, branch_{-1};  // the vessel the catheter engages from, and the branch
   double travel_{1.0};  // direction of travel along the host (+1: away from its origin)  // [rad]

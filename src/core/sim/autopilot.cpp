@@ -175,6 +175,58 @@ double Autopilot::tipBendAngle(const SceneModel& model, const SimData& data, int
   return std::atan2(shaft.dot(bend.cross(w)), bend.dot(w));
 }
 
+namespace {
+
+/// Path length [m] from a tip `depth` along the first vessel of `path` to
+/// `target_depth` inside its last: along each vessel to the next junction.
+double pathLeft(const VesselAtlas& atlas, const std::vector<int>& path, double depth,
+                double target_depth) {
+  double remaining = 0.0, s = depth;
+  for (size_t i = 0; i + 1 < path.size(); ++i) {
+    const NamedVessel& next = atlas.vessels()[path[i + 1]];
+    if (next.parent == path[i]) {  // down into a branch
+      remaining += std::abs(s - next.origin_depth);
+      s = 0.0;
+    } else {  // up into the parent
+      remaining += s;
+      s = atlas.vessels()[path[i]].origin_depth;
+    }
+  }
+  return remaining + std::max(0.0, target_depth - s);
+}
+
+}  // namespace
+
+std::string Autopilot::retryWhy(const VesselAtlas& atlas, const std::vector<int>& plan,
+                                const std::vector<int>& path, const VesselLocation& at,
+                                double remaining, double t, double* pull) const {
+  std::string retry;
+  if (std::find(plan.begin(), plan.end(), at.vessel) == plan.end() && at.vessel != target_) {
+    retry = "entered " + atlas.vessels()[at.vessel].name;
+    *pull =
+        at.depth +
+        atlas
+            .vessels()[atlas.vessels()[at.vessel].parent >= 0 ? atlas.vessels()[at.vessel].parent
+                                                              : at.vessel]
+            .radius +
+        0.01;
+  } else if (path.size() >= 2 && atlas.vessels()[path[1]].parent == at.vessel) {
+    const NamedVessel& next = atlas.vessels()[path[1]];
+    const double passed = std::abs(at.depth - next.origin_depth);
+    const bool beyond = passed > atlas.vessels()[at.vessel].radius + next.radius + 0.01 &&
+                        remaining > best_remaining_ + 0.005;
+    if (beyond) {
+      retry = "slid past the ostium of " + next.name;
+      *pull = passed + 0.01;
+    }
+  }
+  if (retry.empty() && t - progress_time_ > options_.stuck_time) {
+    retry = "no progress for " + std::to_string(options_.stuck_time) + " s";
+    *pull = 0.02;
+  }
+  return retry;
+}
+
 std::string Autopilot::control(const SceneModel& model, SimData* data) {
   const double t = data->time;
   if (done()) return "";
@@ -204,19 +256,7 @@ std::string Autopilot::control(const SceneModel& model, SimData* data) {
   const std::vector<int> path = atlas.path(at.vessel, target_);
   const std::vector<int> plan = atlas.path(entry_vessel_, target_);
 
-  // Path length left: along the current vessel to the next junction, and so on.
-  double remaining = 0.0, s = at.depth;
-  for (size_t i = 0; i + 1 < path.size(); ++i) {
-    const NamedVessel& next = atlas.vessels()[path[i + 1]];
-    if (next.parent == path[i]) {  // down into a branch
-      remaining += std::abs(s - next.origin_depth);
-      s = 0.0;
-    } else {  // up into the parent
-      remaining += s;
-      s = atlas.vessels()[path[i]].origin_depth;
-    }
-  }
-  remaining += std::max(0.0, options_.depth - s);
+  const double remaining = pathLeft(atlas, path, at.depth, options_.depth);
   report_.remaining_path = remaining;
   report_.time = t - start_time_;
   if (remaining < best_remaining_ - 0.002) {
@@ -263,30 +303,8 @@ std::string Autopilot::control(const SceneModel& model, SimData* data) {
     return line.empty() ? d : line + "\n" + d;
   }
   // Wrong vessel, slid past the ostium, or stuck: pull back and try again.
-  std::string retry;
   double pull = 0.0;
-  if (std::find(plan.begin(), plan.end(), at.vessel) == plan.end() && at.vessel != target_) {
-    retry = "entered " + atlas.vessels()[at.vessel].name;
-    pull = at.depth +
-           atlas
-               .vessels()[atlas.vessels()[at.vessel].parent >= 0 ? atlas.vessels()[at.vessel].parent
-                                                                 : at.vessel]
-               .radius +
-           0.01;
-  } else if (path.size() >= 2 && atlas.vessels()[path[1]].parent == at.vessel) {
-    const NamedVessel& next = atlas.vessels()[path[1]];
-    const double passed = std::abs(at.depth - next.origin_depth);
-    const bool beyond = passed > atlas.vessels()[at.vessel].radius + next.radius + 0.01 &&
-                        remaining > best_remaining_ + 0.005;
-    if (beyond) {
-      retry = "slid past the ostium of " + next.name;
-      pull = passed + 0.01;
-    }
-  }
-  if (retry.empty() && t - progress_time_ > options_.stuck_time) {
-    retry = "no progress for " + std::to_string(options_.stuck_time) + " s";
-    pull = 0.02;
-  }
+  const std::string retry = retryWhy(atlas, plan, path, at, remaining, t, &pull);
   if (!retry.empty()) {
     if (++report_.retries > options_.max_retries) {
       fail("retries exhausted (" + std::to_string(options_.max_retries) + "), last: " + retry, t);
@@ -309,251 +327,6 @@ std::string Autopilot::control(const SceneModel& model, SimData* data) {
       hold ? "toward " + atlas.vessels()[path[1]].name : "in " + atlas.vessels()[at.vessel].name,
       t);
   return line.empty() ? p : (p.empty() ? line : line + "\n" + p);
-}
-
-std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
-                                   const std::vector<int>& path, double t) {
-  const VesselAtlas& atlas = *model.atlas;
-  const std::vector<int> plan = atlas.path(entry_vessel_, target_);
-  // The first turn of the plan into a branch: where the catheter engages.
-  // The next turn of the plan into a branch, from the catheter's vessel on.
-  const auto cath_on_plan = std::find(plan.begin(), plan.end(), data->tips[follow_].vessel);
-  if (cath_on_plan != plan.end()) {
-    const size_t from_index = static_cast<size_t>(cath_on_plan - plan.begin());
-    int host = -1, branch = -1;
-    for (size_t i = from_index; i + 1 < plan.size() && branch < 0; ++i)
-      if (atlas.vessels()[plan[i + 1]].parent == plan[i]) {
-        host = plan[i];
-        branch = plan[i + 1];
-        const double from = i == from_index ? data->tips[follow_].depth
-                            : atlas.vessels()[plan[i - 1]].parent == host
-                                ? atlas.vessels()[plan[i - 1]].origin_depth
-                                : 0.0;
-        if (branch != branch_) travel_ = atlas.vessels()[branch].origin_depth >= from ? 1.0 : -1.0;
-      }
-    // The catheter is in the target, no turn is left, or the next branch is
-    // too narrow for the catheter (less than twice its radius): the wire
-    // goes on alone, the catheter trailing where it fits.
-    if (branch < 0 ||
-        atlas.vessels()[branch].radius < 2.0 * model.devices[follow_].node_radius.back()) {
-      stage_ = PairStage::kOver;
-      return "";
-    }
-    if (branch != branch_ && stage_ != PairStage::kLead) stage_ = PairStage::kLead;
-    host_ = host;
-    branch_ = branch;
-  }
-  if (branch_ < 0) {
-    stage_ = PairStage::kOver;
-    return "";
-  }
-  const NamedVessel& branch = atlas.vessels()[branch_];
-  const NamedVessel& host = atlas.vessels()[host_];
-  DeviceState& wire = data->devices[lead_];
-  DeviceState& cath = data->devices[follow_];
-  const VesselLocation wire_at = data->tips[lead_];
-  const VesselLocation cath_at = data->tips[follow_];
-  auto command = [&](int device, DriveCommand::Mode mode, double insertion, double rotation) {
-    DriveCommand c;
-    c.mode = mode;
-    const DeviceModel& m = model.devices[device];
-    c.insertion = mode == DriveCommand::Mode::kPosition
-                      ? std::clamp(insertion, 0.0, m.length)
-                      : std::clamp(insertion, -m.max_insertion_speed, m.max_insertion_speed);
-    c.rotation = mode == DriveCommand::Mode::kPosition
-                     ? rotation
-                     : std::clamp(rotation, -m.max_rotation_speed, m.max_rotation_speed);
-    data->commands[device] = c;
-  };
-  auto stage = [&](PairStage next, const std::string& what) {
-    if (next == stage_) return std::string();
-    stage_ = next;
-    std::ostringstream line;
-    line << "t=" << t << " s  " << what;
-    return line.str();
-  };
-  const auto pos = DriveCommand::Mode::kPosition;
-  const auto vel = DriveCommand::Mode::kVelocity;
-  // How far the catheter's tip is past the branch's ostium along the host.
-  // (In a vessel branching off the host at the same junction: its depth.)
-  double cath_past = -1.0;
-  if (cath_at.vessel == host_)
-    cath_past = (cath_at.depth - branch.origin_depth) * travel_;
-  else if (atlas.vessels()[cath_at.vessel].parent == host_ &&
-           std::abs(atlas.vessels()[cath_at.vessel].origin_depth - branch.origin_depth) < 1e-6)
-    cath_past = cath_at.depth;
-  const bool wire_off_plan = std::find(plan.begin(), plan.end(), wire_at.vessel) == plan.end();
-  // The branch's direction out of the host, and the catheter tip's.
-  const Vec3 out = (atlas.pointAt(branch_, std::min(branch.length, 1.5 * host.radius + 0.005)) -
-                    atlas.pointAt(branch_, 0.0))
-                       .normalized();
-  const int cn = model.devices[follow_].num_nodes;
-  const Vec3 cath_dir = (cath.position[cn - 1] - cath.position[cn - 3]).normalized();
-  // Where a bent tip should point to take the branch: toward it, or, where
-  // it runs nearly straight on (within 35 degrees of the catheter's tip),
-  // away from its sibling: a bent tip pointed ahead turns aside.
-  Vec3 take = out;
-  if (cath_dir.dot(out) > std::cos(35.0 * M_PI / 180.0))
-    for (int sibling : host.children) {
-      const NamedVessel& o = atlas.vessels()[sibling];
-      if (sibling == branch_ || std::abs(o.origin_depth - branch.origin_depth) > host.radius)
-        continue;
-      take = -(atlas.pointAt(sibling, std::min(o.length, 1.5 * host.radius + 0.005)) -
-               atlas.pointAt(sibling, 0.0))
-                  .normalized();
-    }
-  const VesselLocation cath_in_branch = atlas.locateIn(branch_, cath.position.back());
-  const bool engaged = (cath_at.vessel == branch_ ||
-                        (cath_in_branch.inside && cath_in_branch.depth >= 0.6 * host.radius)) &&
-                       cath_dir.dot(out) > 0.5;
-  if (engaged && (stage_ == PairStage::kLead || stage_ == PairStage::kEngage)) {
-    command(follow_, vel, 0.0, 0.0);
-    return stage(PairStage::kWireIn, "catheter engaged in " + branch.name + "; wire in");
-  }
-
-  switch (stage_) {
-    case PairStage::kLead: {
-      if (!wire_off_plan && std::find(plan.begin(), plan.end(), wire_at.vessel) >=
-                                std::find(plan.begin(), plan.end(), branch_)) {
-        progress_time_ = t;
-        return stage(PairStage::kFollow, "the wire is in " + branch.name + "; catheter follows");
-      }
-      if (wire_off_plan) {  // into a wrong vessel: both back out of it
-        if (++report_.retries > options_.max_retries) {
-          fail("retries exhausted (" + std::to_string(options_.max_retries) + ")", t);
-          return "t=" + std::to_string(t) + " s  failed: " + report_.reason;
-        }
-        retract_until_ = std::max(0.0, wire.inserted_length - wire_at.depth - host.radius - 0.01);
-        return stage(PairStage::kBackOut, "back out of " + atlas.vessels()[wire_at.vessel].name);
-      }
-      const bool terminal = branch.origin_depth >= host.length - 1e-4 ||
-                            branch.origin_depth <= 1e-4;  // the host ends in the bifurcation
-      if (terminal ? cath_past > -(host.radius + 0.003) : cath_past > branch.radius + 0.005) {
-        command(lead_, pos, cath.inserted_length - 0.005, wire.rotation_angle);
-        command(follow_, vel, 0.0, 0.0);
-        return stage(PairStage::kPark, "wire into the catheter, past the ostium of " + branch.name);
-      }
-      // Both advance, the wire 1 cm ahead, its tip turned away from other ostia.
-      const Aim aim = aimFor(model, *data, lead_, path);
-      const double turn =
-          aim.wanted && !aim.toward_path ? tipBendAngle(model, *data, lead_, aim.direction) : 0.0;
-      const std::vector<int> cath_path = atlas.path(cath_at.vessel, target_);
-      const Aim cath_aim = aimFor(model, *data, follow_, cath_path);
-      const double cath_turn = cath_aim.wanted && !cath_aim.toward_path
-                                   ? tipBendAngle(model, *data, follow_, cath_aim.direction)
-                                   : 0.0;
-      command(lead_, vel, options_.advance_speed, options_.rotation_gain * turn);
-      command(follow_, pos, wire.inserted_length - 0.01,
-              cath.rotation_angle + options_.rotation_gain * options_.control_period * cath_turn);
-      return stage(PairStage::kLead, "wire leads, catheter follows toward " + branch.name);
-    }
-    case PairStage::kBackOut: {
-      if (wire.inserted_length > retract_until_) {
-        command(lead_, vel, -options_.retract_speed, 0.0);
-        command(follow_, pos, wire.inserted_length - 0.01, cath.rotation_angle);
-        return "";
-      }
-      return stage(PairStage::kLead, "advance again");
-    }
-    case PairStage::kPark: {
-      command(lead_, pos, cath.inserted_length - 0.005, wire.rotation_angle);
-      command(follow_, vel, 0.0, 0.0);
-      if (wire.inserted_length > cath.inserted_length - 0.004) return "";
-      return stage(PairStage::kEngage, "turn the catheter's tip toward " + branch.name);
-    }
-    case PairStage::kEngage: {
-      if (cath_past < -(branch.radius + 0.01)) {  // pulled back past it: advance and try again
-        if (++report_.retries > options_.max_retries) {
-          fail("retries exhausted (" + std::to_string(options_.max_retries) +
-                   "): the catheter does not engage " + branch.name,
-               t);
-          return "t=" + std::to_string(t) + " s  failed: " + report_.reason;
-        }
-        return stage(PairStage::kLead, "missed the ostium of " + branch.name + "; advance again");
-      }
-      if (std::find(plan.begin(), plan.end(), cath_at.vessel) == plan.end()) {
-        // The catheter took the sibling: back out of it, and again.
-        if (++report_.retries > options_.max_retries) {
-          fail("retries exhausted (" + std::to_string(options_.max_retries) +
-                   "): the catheter does not engage " + branch.name,
-               t);
-          return "t=" + std::to_string(t) + " s  failed: " + report_.reason;
-        }
-        retract_until_ = std::max(0.0, wire.inserted_length - cath_at.depth - 0.015);
-        return stage(PairStage::kBackOut,
-                     "catheter in " + atlas.vessels()[cath_at.vessel].name + "; back out");
-      }
-      const double turn = tipBendAngle(model, *data, follow_, take);
-      const bool aimed = std::abs(turn) < options_.aim_tolerance;
-      const bool terminal =
-          branch.origin_depth >= host.length - 1e-4 || branch.origin_depth <= 1e-4;
-      // Engage: pull back onto a side branch's ostium; advance into a
-      // bifurcation's branch.
-      const double speed = !aimed     ? 0.0
-                           : terminal ? 0.5 * options_.advance_speed
-                                      : -0.5 * options_.retract_speed;
-      command(follow_, vel, speed, options_.rotation_gain * turn);
-      command(lead_, pos, cath.inserted_length - 0.005, wire.rotation_angle);
-      return stage(PairStage::kEngage, "");
-    }
-    case PairStage::kWireIn: {
-      command(follow_, vel, 0.0, 0.0);
-      const bool deep = !wire_off_plan && ((wire_at.vessel == branch_ && wire_at.depth > 0.02) ||
-                                           std::find(plan.begin(), plan.end(), wire_at.vessel) >
-                                               std::find(plan.begin(), plan.end(), branch_));
-      if (deep) {
-        progress_time_ = t;
-        return stage(PairStage::kFollow, "wire in " + branch.name + "; catheter follows");
-      }
-      if (wire_off_plan || wire.inserted_length > cath.inserted_length + 0.06) {
-        // The wire went elsewhere: back into the catheter, engage again.
-        if (++report_.retries > options_.max_retries) {
-          fail("retries exhausted (" + std::to_string(options_.max_retries) + ")", t);
-          return "t=" + std::to_string(t) + " s  failed: " + report_.reason;
-        }
-        command(lead_, pos, cath.inserted_length - 0.005, wire.rotation_angle);
-        return stage(PairStage::kPark, "the wire missed " + branch.name + "; back in");
-      }
-      // The wire's bent tip out of the catheter, toward the branch.
-      const Vec3 want = take;
-      command(lead_, vel, 0.5 * options_.advance_speed,
-              options_.rotation_gain * tipBendAngle(model, *data, lead_, want));
-      return "";
-    }
-    case PairStage::kFollow: {
-      // The catheter over the wire into the branch, its tip 2 cm behind the wire's.
-      const VesselLocation in_branch = atlas.locateIn(branch_, cath.position.back());
-      const bool followed = cath_at.vessel == branch_ && in_branch.depth > host.radius + 0.01;
-      if (wire_at.vessel == target_ && wire_at.depth >= options_.depth) {
-        stage_ = PairStage::kOver;
-        best_remaining_ = 1e9;
-        return "t=" + std::to_string(t) + " s  the wire is in the target";
-      }
-      if (followed || t - progress_time_ > options_.stuck_time) {
-        progress_time_ = t;
-        best_remaining_ = 1e9;
-        return stage(PairStage::kLead, "catheter in " + atlas.vessels()[cath_at.vessel].name);
-      }
-      // The wire holds in the target's own branch (its dwell is judged);
-      // toward a deeper target it goes on slowly, steered away from other
-      // ostia, so that the catheter can follow it past the ostium.
-      double advance = 0.0, turn = 0.0;
-      if (branch_ != target_) {
-        const Aim aim = aimFor(model, *data, lead_, path);
-        turn = aim.wanted ? tipBendAngle(model, *data, lead_, aim.direction) : 0.0;
-        advance = aim.wanted && aim.toward_path && std::abs(turn) > options_.aim_tolerance
-                      ? 0.0
-                      : 0.5 * options_.advance_speed;
-      }
-      command(lead_, vel, advance, options_.rotation_gain * turn);
-      command(follow_, pos, wire.inserted_length - 0.02, cath.rotation_angle);
-      if (wire_off_plan) return stage(PairStage::kLead, "");
-      return "";
-    }
-    case PairStage::kOver:
-      break;
-  }
-  return "";
 }
 
 void Autopilot::observe(const SimData& data, bool step_failed) {

@@ -1,0 +1,309 @@
+// The autopilot's catheter technique for a guidewire inside a catheter
+// (sim/autopilot.h): which branch of the plan the catheter engages next,
+// what the screen shows of the pair there, and one function per stage:
+// lead, back out, park the wire, engage the catheter, wire in, follow.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "endovascular_sim/sim/autopilot.h"
+
+namespace evsim {
+
+/// What the screen shows of the pair at the branch it engages.
+struct Autopilot::PairView {
+  const SceneModel& model;
+  SimData* data;
+  const std::vector<int>& path;
+  std::vector<int> plan;
+  double t;
+  const NamedVessel& branch;
+  const NamedVessel& host;
+  const DeviceState& wire;
+  const DeviceState& cath;
+  VesselLocation wire_at, cath_at;
+  double cath_past{-1.0};  // [m] the catheter's tip past the branch's ostium along the host
+  bool wire_off_plan{false};
+  Vec3 out{Vec3::Zero()};       // the branch's direction out of the host
+  Vec3 cath_dir{Vec3::Zero()};  // the catheter tip's
+  Vec3 take{Vec3::Zero()};      // where a bent tip should point to take the branch
+  bool terminal{false};         // the host ends in the bifurcation
+  bool onPlan(int vessel) const {
+    return std::find(plan.begin(), plan.end(), vessel) != plan.end();
+  }
+  /// Position of a vessel in the plan (plan.end() when off it).
+  std::vector<int>::const_iterator at(int vessel) const {
+    return std::find(plan.begin(), plan.end(), vessel);
+  }
+};
+
+bool Autopilot::choosePairBranch(const SceneModel& model, const SimData& data,
+                                 const std::vector<int>& plan) {
+  const VesselAtlas& atlas = *model.atlas;
+  // The next turn of the plan into a branch, from the catheter's vessel on.
+  const auto cath_on_plan = std::find(plan.begin(), plan.end(), data.tips[follow_].vessel);
+  if (cath_on_plan != plan.end()) {
+    const size_t from_index = static_cast<size_t>(cath_on_plan - plan.begin());
+    int host = -1, branch = -1;
+    for (size_t i = from_index; i + 1 < plan.size() && branch < 0; ++i)
+      if (atlas.vessels()[plan[i + 1]].parent == plan[i]) {
+        host = plan[i];
+        branch = plan[i + 1];
+        const double from = i == from_index ? data.tips[follow_].depth
+                            : atlas.vessels()[plan[i - 1]].parent == host
+                                ? atlas.vessels()[plan[i - 1]].origin_depth
+                                : 0.0;
+        if (branch != branch_) travel_ = atlas.vessels()[branch].origin_depth >= from ? 1.0 : -1.0;
+      }
+    // The catheter is in the target, no turn is left, or the next branch is
+    // too narrow for the catheter (less than twice its radius): the wire
+    // goes on alone, the catheter trailing where it fits.
+    if (branch < 0 ||
+        atlas.vessels()[branch].radius < 2.0 * model.devices[follow_].node_radius.back())
+      return false;
+    if (branch != branch_ && stage_ != PairStage::kLead) stage_ = PairStage::kLead;
+    host_ = host;
+    branch_ = branch;
+  }
+  return branch_ >= 0;
+}
+
+std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
+                                   const std::vector<int>& path, double t) {
+  const VesselAtlas& atlas = *model.atlas;
+  std::vector<int> plan = atlas.path(entry_vessel_, target_);
+  if (!choosePairBranch(model, *data, plan)) {
+    stage_ = PairStage::kOver;
+    return "";
+  }
+  PairView v{model,
+             data,
+             path,
+             std::move(plan),
+             t,
+             atlas.vessels()[branch_],
+             atlas.vessels()[host_],
+             data->devices[lead_],
+             data->devices[follow_],
+             data->tips[lead_],
+             data->tips[follow_]};
+  // How far the catheter's tip is past the branch's ostium along the host.
+  // (In a vessel branching off the host at the same junction: its depth.)
+  if (v.cath_at.vessel == host_)
+    v.cath_past = (v.cath_at.depth - v.branch.origin_depth) * travel_;
+  else if (atlas.vessels()[v.cath_at.vessel].parent == host_ &&
+           std::abs(atlas.vessels()[v.cath_at.vessel].origin_depth - v.branch.origin_depth) < 1e-6)
+    v.cath_past = v.cath_at.depth;
+  v.wire_off_plan = !v.onPlan(v.wire_at.vessel);
+  v.out = (atlas.pointAt(branch_, std::min(v.branch.length, 1.5 * v.host.radius + 0.005)) -
+           atlas.pointAt(branch_, 0.0))
+              .normalized();
+  const int cn = model.devices[follow_].num_nodes;
+  v.cath_dir = (v.cath.position[cn - 1] - v.cath.position[cn - 3]).normalized();
+  // Where a bent tip should point to take the branch: toward it, or, where
+  // it runs nearly straight on (within 35 degrees of the catheter's tip),
+  // away from its sibling: a bent tip pointed ahead turns aside.
+  v.take = v.out;
+  if (v.cath_dir.dot(v.out) > std::cos(35.0 * M_PI / 180.0))
+    for (int sibling : v.host.children) {
+      const NamedVessel& o = atlas.vessels()[sibling];
+      if (sibling == branch_ || std::abs(o.origin_depth - v.branch.origin_depth) > v.host.radius)
+        continue;
+      v.take = -(atlas.pointAt(sibling, std::min(o.length, 1.5 * v.host.radius + 0.005)) -
+                 atlas.pointAt(sibling, 0.0))
+                    .normalized();
+    }
+  v.terminal = v.branch.origin_depth >= v.host.length - 1e-4 || v.branch.origin_depth <= 1e-4;
+  const VesselLocation cath_in_branch = atlas.locateIn(branch_, v.cath.position.back());
+  const bool engaged = (v.cath_at.vessel == branch_ ||
+                        (cath_in_branch.inside && cath_in_branch.depth >= 0.6 * v.host.radius)) &&
+                       v.cath_dir.dot(v.out) > 0.5;
+  if (engaged && (stage_ == PairStage::kLead || stage_ == PairStage::kEngage)) {
+    command(model, data, follow_, DriveCommand::Mode::kVelocity, 0.0, 0.0);
+    return stageTo(PairStage::kWireIn, "catheter engaged in " + v.branch.name + "; wire in", t);
+  }
+  switch (stage_) {
+    case PairStage::kLead:
+      return leadStage(v);
+    case PairStage::kBackOut:
+      return backOutStage(v);
+    case PairStage::kPark:
+      return parkStage(v);
+    case PairStage::kEngage:
+      return engageStage(v);
+    case PairStage::kWireIn:
+      return wireInStage(v);
+    case PairStage::kFollow:
+      return followStage(v);
+    case PairStage::kOver:
+      break;
+  }
+  return "";
+}
+
+void Autopilot::command(const SceneModel& model, SimData* data, int device, DriveCommand::Mode mode,
+                        double insertion, double rotation) {
+  DriveCommand c;
+  c.mode = mode;
+  const DeviceModel& m = model.devices[device];
+  c.insertion = mode == DriveCommand::Mode::kPosition
+                    ? std::clamp(insertion, 0.0, m.length)
+                    : std::clamp(insertion, -m.max_insertion_speed, m.max_insertion_speed);
+  c.rotation = mode == DriveCommand::Mode::kPosition
+                   ? rotation
+                   : std::clamp(rotation, -m.max_rotation_speed, m.max_rotation_speed);
+  data->commands[device] = c;
+}
+
+std::string Autopilot::stageTo(PairStage next, const std::string& what, double t) {
+  if (next == stage_) return std::string();
+  stage_ = next;
+  std::ostringstream line;
+  line << "t=" << t << " s  " << what;
+  return line.str();
+}
+
+std::string Autopilot::retryOrFail(const std::string& why, double t) {
+  if (++report_.retries <= options_.max_retries) return "";
+  fail("retries exhausted (" + std::to_string(options_.max_retries) + ")" + why, t);
+  return "t=" + std::to_string(t) + " s  failed: " + report_.reason;
+}
+
+namespace {
+constexpr auto kPos = DriveCommand::Mode::kPosition;
+constexpr auto kVel = DriveCommand::Mode::kVelocity;
+}  // namespace
+
+std::string Autopilot::leadStage(const PairView& v) {
+  const VesselAtlas& atlas = *v.model.atlas;
+  if (!v.wire_off_plan && v.at(v.wire_at.vessel) >= v.at(branch_)) {
+    progress_time_ = v.t;
+    return stageTo(PairStage::kFollow, "the wire is in " + v.branch.name + "; catheter follows",
+                   v.t);
+  }
+  if (v.wire_off_plan) {  // into a wrong vessel: both back out of it
+    const std::string failed = retryOrFail("", v.t);
+    if (!failed.empty()) return failed;
+    retract_until_ = std::max(0.0, v.wire.inserted_length - v.wire_at.depth - v.host.radius - 0.01);
+    return stageTo(PairStage::kBackOut, "back out of " + atlas.vessels()[v.wire_at.vessel].name,
+                   v.t);
+  }
+  if (v.terminal ? v.cath_past > -(v.host.radius + 0.003) : v.cath_past > v.branch.radius + 0.005) {
+    command(v.model, v.data, lead_, kPos, v.cath.inserted_length - 0.005, v.wire.rotation_angle);
+    command(v.model, v.data, follow_, kVel, 0.0, 0.0);
+    return stageTo(PairStage::kPark, "wire into the catheter, past the ostium of " + v.branch.name,
+                   v.t);
+  }
+  // Both advance, the wire 1 cm ahead, its tip turned away from other ostia.
+  const Aim aim = aimFor(v.model, *v.data, lead_, v.path);
+  const double turn =
+      aim.wanted && !aim.toward_path ? tipBendAngle(v.model, *v.data, lead_, aim.direction) : 0.0;
+  const std::vector<int> cath_path = atlas.path(v.cath_at.vessel, target_);
+  const Aim cath_aim = aimFor(v.model, *v.data, follow_, cath_path);
+  const double cath_turn = cath_aim.wanted && !cath_aim.toward_path
+                               ? tipBendAngle(v.model, *v.data, follow_, cath_aim.direction)
+                               : 0.0;
+  command(v.model, v.data, lead_, kVel, options_.advance_speed, options_.rotation_gain * turn);
+  command(v.model, v.data, follow_, kPos, v.wire.inserted_length - 0.01,
+          v.cath.rotation_angle + options_.rotation_gain * options_.control_period * cath_turn);
+  return stageTo(PairStage::kLead, "wire leads, catheter follows toward " + v.branch.name, v.t);
+}
+
+std::string Autopilot::backOutStage(const PairView& v) {
+  if (v.wire.inserted_length > retract_until_) {
+    command(v.model, v.data, lead_, kVel, -options_.retract_speed, 0.0);
+    command(v.model, v.data, follow_, kPos, v.wire.inserted_length - 0.01, v.cath.rotation_angle);
+    return "";
+  }
+  return stageTo(PairStage::kLead, "advance again", v.t);
+}
+
+std::string Autopilot::parkStage(const PairView& v) {
+  command(v.model, v.data, lead_, kPos, v.cath.inserted_length - 0.005, v.wire.rotation_angle);
+  command(v.model, v.data, follow_, kVel, 0.0, 0.0);
+  if (v.wire.inserted_length > v.cath.inserted_length - 0.004) return "";
+  return stageTo(PairStage::kEngage, "turn the catheter's tip toward " + v.branch.name, v.t);
+}
+
+std::string Autopilot::engageStage(const PairView& v) {
+  const VesselAtlas& atlas = *v.model.atlas;
+  const std::string not_engaged = ": the catheter does not engage " + v.branch.name;
+  if (v.cath_past < -(v.branch.radius + 0.01)) {  // pulled back past it: advance and try again
+    const std::string failed = retryOrFail(not_engaged, v.t);
+    if (!failed.empty()) return failed;
+    return stageTo(PairStage::kLead, "missed the ostium of " + v.branch.name + "; advance again",
+                   v.t);
+  }
+  if (!v.onPlan(v.cath_at.vessel)) {  // the catheter took the sibling: back out, and again
+    const std::string failed = retryOrFail(not_engaged, v.t);
+    if (!failed.empty()) return failed;
+    retract_until_ = std::max(0.0, v.wire.inserted_length - v.cath_at.depth - 0.015);
+    return stageTo(PairStage::kBackOut,
+                   "catheter in " + atlas.vessels()[v.cath_at.vessel].name + "; back out", v.t);
+  }
+  const double turn = tipBendAngle(v.model, *v.data, follow_, v.take);
+  const bool aimed = std::abs(turn) < options_.aim_tolerance;
+  // Engage: pull back onto a side branch's ostium; advance into a
+  // bifurcation's branch.
+  const double speed = !aimed       ? 0.0
+                       : v.terminal ? 0.5 * options_.advance_speed
+                                    : -0.5 * options_.retract_speed;
+  command(v.model, v.data, follow_, kVel, speed, options_.rotation_gain * turn);
+  command(v.model, v.data, lead_, kPos, v.cath.inserted_length - 0.005, v.wire.rotation_angle);
+  return stageTo(PairStage::kEngage, "", v.t);
+}
+
+std::string Autopilot::wireInStage(const PairView& v) {
+  command(v.model, v.data, follow_, kVel, 0.0, 0.0);
+  const bool deep = !v.wire_off_plan && ((v.wire_at.vessel == branch_ && v.wire_at.depth > 0.02) ||
+                                         v.at(v.wire_at.vessel) > v.at(branch_));
+  if (deep) {
+    progress_time_ = v.t;
+    return stageTo(PairStage::kFollow, "wire in " + v.branch.name + "; catheter follows", v.t);
+  }
+  if (v.wire_off_plan || v.wire.inserted_length > v.cath.inserted_length + 0.06) {
+    // The wire went elsewhere: back into the catheter, engage again.
+    const std::string failed = retryOrFail("", v.t);
+    if (!failed.empty()) return failed;
+    command(v.model, v.data, lead_, kPos, v.cath.inserted_length - 0.005, v.wire.rotation_angle);
+    return stageTo(PairStage::kPark, "the wire missed " + v.branch.name + "; back in", v.t);
+  }
+  // The wire's bent tip out of the catheter, toward the branch.
+  command(v.model, v.data, lead_, kVel, 0.5 * options_.advance_speed,
+          options_.rotation_gain * tipBendAngle(v.model, *v.data, lead_, v.take));
+  return "";
+}
+
+std::string Autopilot::followStage(const PairView& v) {
+  const VesselAtlas& atlas = *v.model.atlas;
+  // The catheter over the wire into the branch, its tip 2 cm behind the wire's.
+  const VesselLocation in_branch = atlas.locateIn(branch_, v.cath.position.back());
+  const bool followed = v.cath_at.vessel == branch_ && in_branch.depth > v.host.radius + 0.01;
+  if (v.wire_at.vessel == target_ && v.wire_at.depth >= options_.depth) {
+    stage_ = PairStage::kOver;
+    best_remaining_ = 1e9;
+    return "t=" + std::to_string(v.t) + " s  the wire is in the target";
+  }
+  if (followed || v.t - progress_time_ > options_.stuck_time) {
+    progress_time_ = v.t;
+    best_remaining_ = 1e9;
+    return stageTo(PairStage::kLead, "catheter in " + atlas.vessels()[v.cath_at.vessel].name, v.t);
+  }
+  // The wire holds in the target's own branch (its dwell is judged);
+  // toward a deeper target it goes on slowly, steered away from other
+  // ostia, so that the catheter can follow it past the ostium.
+  double advance = 0.0, turn = 0.0;
+  if (branch_ != target_) {
+    const Aim aim = aimFor(v.model, *v.data, lead_, v.path);
+    turn = aim.wanted ? tipBendAngle(v.model, *v.data, lead_, aim.direction) : 0.0;
+    advance = aim.wanted && aim.toward_path && std::abs(turn) > options_.aim_tolerance
+                  ? 0.0
+                  : 0.5 * options_.advance_speed;
+  }
+  command(v.model, v.data, lead_, kVel, advance, options_.rotation_gain * turn);
+  command(v.model, v.data, follow_, kPos, v.wire.inserted_length - 0.02, v.cath.rotation_angle);
+  if (v.wire_off_plan) return stageTo(PairStage::kLead, "", v.t);
+  return "";
+}
+
+}  // namespace evsim
