@@ -9,7 +9,7 @@ evsim), and must exit 0 within its time limit (`<!-- runnable timeout=S
 exists. Writes one JUnit case per block and per page (catkin's test results),
 and exits 1 when any fails.
 
-usage: doc_commands_test.py REPO EVSIM [--xml FILE]
+usage: doc_commands_test.py REPO EVSIM [XML]   (XML: the JUnit file to write)
 """
 import glob
 import os
@@ -44,8 +44,11 @@ def run_block(repo, evsim, script, timeout):
 
 
 def main(argv):
-    repo, evsim = os.path.abspath(argv[1]), os.path.abspath(argv[2])
-    xml_path = argv[argv.index("--xml") + 1] if "--xml" in argv else None
+    # The repository itself, where the docs' relative paths (build/ws/...)
+    # start: the catkin package links each of its entries to it.
+    repo = os.path.dirname(os.path.realpath(os.path.join(argv[1], "README.md")))
+    evsim = os.path.abspath(argv[2])
+    xml_path = argv[3] if len(argv) > 3 else None  # (positional: catkin's wrapper owns --options)
     cases = []  # (name, seconds, failure or "")
     for page in pages(repo):
         text = open(page, encoding="utf-8").read()
