@@ -31,6 +31,7 @@ struct BenchStep {
   int forces;       // contacts with a positive force
   int loops;        // activation loops
   bool subdivided;  // the step was halved at least once
+  bool asleep;      // the scene slept through it
   Phase phase;
 };
 
@@ -60,18 +61,19 @@ void printTimes(const char* label, const std::vector<BenchStep>& steps, double d
 
 void printContacts(const std::vector<BenchStep>& steps) {
   std::vector<int> rows, forces;
-  int subdivided = 0, max_loops = 0;
+  int subdivided = 0, max_loops = 0, asleep = 0;
   for (const BenchStep& b : steps) {
     rows.push_back(b.rows);
     forces.push_back(b.forces);
     subdivided += b.subdivided;
+    asleep += b.asleep;
     max_loops = std::max(max_loops, b.loops);
   }
   std::printf(
       "active contacts: median %d  max %d;  LCP rows: median %d  max %d;  steps subdivided %d;  "
-      "most activation loops %d\n",
+      "most activation loops %d;  steps asleep %d\n",
       quantile(forces, 0.5), quantile(forces, 1.0), quantile(rows, 0.5), quantile(rows, 1.0),
-      subdivided, max_loops);
+      subdivided, max_loops, asleep);
 }
 
 /// Every phase and the whole stretch.
@@ -109,6 +111,7 @@ int benchScene(const BenchOptions& o) {
       return kExitBadInput;
     }
   }
+  if (o.no_sleep) spec.sleep.enabled = false;
   const SceneModel model = buildSceneModel(spec);
   const long whole = std::max(1L, std::lround(model.duration / model.time_step));
   const long steps = o.steps > 0 ? o.steps : std::max(1L, whole - o.warmup);
@@ -134,8 +137,8 @@ int benchScene(const BenchOptions& o) {
     const Phase phase = !touched                           ? Phase::kFree
                         : driveMoved(before, data.devices) ? Phase::kContact
                                                            : Phase::kInserted;
-    record.push_back(
-        {s.wall_ms, s.contacts, s.active_contacts, s.activation_loops, s.subdivisions > 0, phase});
+    record.push_back({s.wall_ms, s.contacts, s.active_contacts, s.activation_loops,
+                      s.subdivisions > 0, s.asleep, phase});
   }
   int elements = 0;
   for (const auto& d : model.devices) elements += d.num_nodes - 1;

@@ -34,6 +34,7 @@ struct BenchOptions {
   std::optional<std::string> effects;  // replaces the scene's effects
   long min_rows{0};                    // also report the steps with >= this many LCP rows
   bool strict{false};                  // no recovery step (see RunOptions::strict)
+  bool no_sleep{false};                // every step solved, also at rest (SleepOptions)
 };
 /// `evsim bench`: step-time statistics over the whole scene and per phase.
 int benchScene(const BenchOptions& options);

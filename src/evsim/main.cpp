@@ -70,6 +70,8 @@ void addBench(CLI::App& app, BenchOptions* o, std::string* what, double* duratio
                    "also report the steps whose last LCP has at least this many rows")
       ->check(CLI::Range(1L, 1000000L));
   bench->add_flag("--strict", o->strict, "no recovery step: fail where the scene's options do");
+  bench->add_flag("--no-sleep", o->no_sleep,
+                  "solve every step, also once the scene is at rest (scene key sleep)");
   CLI::App* accuracy =
       bench->add_subcommand("accuracy", "what each accuracy knob costs, against a fine run");
   accuracy->add_option("what", *what, "SCENE, beam or root")->required();

@@ -168,6 +168,7 @@ std::string SimulationLoop::setContactOptions(const ContactOptions& options) {
   auto model = std::make_shared<SceneModel>(*model_);  // models are immutable: swap a copy
   model->contact = options;
   model_ = std::move(model);
+  wake(&data_);  // the rest was found with the old options
   shareState();
   return "";
 }

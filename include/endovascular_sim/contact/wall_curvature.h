@@ -16,6 +16,15 @@
 // to A and solves the QP step about the last iterate x_k:
 //   (A + C) dq = A dq_free + C dq_k,   W = H (A + C)^-1 H^T.
 // With C = 0 this is the paper's step.
+//
+// The first loop takes its QP about x_t (dq_k = 0), later loops about the
+// last iterate. The loop ends once no point is beyond the wall, which may
+// come before dq = dq_k; what is left, C (dq - dq_k), is then a stiffness
+// against sliding from where the step began: a spring released every step,
+// it only dissipates, and a resting device stays at rest. About x_f it
+// pulled each point toward where its inertia carried it and fed a 100 Hz
+// limit cycle of a wire at rest in the carotid scene (20 um per step;
+// Stability.AWireAtRestStaysAtRest).
 #pragma once
 
 #include <array>

@@ -45,6 +45,22 @@ struct ScriptedCommand {
   bool detach{false};  // mode 'detach': the device's detach_section comes off (no drive change)
 };
 
+/// When the scene sleeps (`sleep:`; MuJoCo, Bullet and PhysX call it so):
+/// once no drive moves and no node has moved more than `displacement` in
+/// each of `steps` consecutive steps, step() only advances the clock,
+/// keeping the state (velocities zeroed) and the last contacts with their
+/// forces, until a command that changes a drive, a scripted command or a
+/// detachment wakes it. Never with the effect 'vessel_motion' (the walls
+/// move). What it costs in accuracy: `evsim bench accuracy`.
+struct SleepOptions {
+  bool enabled{true};
+  double displacement{1e-9};  // [m] per step, of every node (a rotation: times its element)
+  int steps{100};             // consecutive resting steps before the scene sleeps
+};
+
+/// Why sleep options are out of range ("" when valid).
+std::string validateSleepOptions(const SleepOptions& o);
+
 /// The vessels of a scene (none: free space).
 struct VesselSpec {
   bool present{false};
@@ -66,6 +82,7 @@ struct SceneSpec {
   Vec3 gravity{0.0, 0.0, -9.81};     // [m/s^2], used with effect 'gravity'
   VesselSpec vessels;
   ContactOptions contact;
+  SleepOptions sleep;
   std::vector<DevicePlacementSpec> devices;
   std::vector<ScriptedCommand> script;  // sorted by time
   std::vector<TargetSpec> targets;  // navigation targets (checked against the vessels when built)

@@ -8,6 +8,8 @@
 //                      (contact/contact_solver.h); not solved after N loops:
 //   subdivide          redo the step as two halves, recursively
 //   commit             positions, velocities, contacts, statistics
+//   sleep              at rest for SleepOptions::steps steps: later steps
+//                      only advance the clock until something wakes it
 #pragma once
 
 #include <memory>
@@ -58,6 +60,7 @@ struct SceneModel {
   std::shared_ptr<const VesselAtlas> atlas;        // the named vessels (null: free space)
   std::vector<Target> targets;                     // the scene's navigation targets
   ContactOptions contact;
+  SleepOptions sleep;                             // off with the effect 'vessel_motion'
   std::vector<std::vector<SamplePoint>> samples;  // contact sample points per device
   std::vector<DeviceModel> devices;
   std::vector<Introducer> introducers;
@@ -89,7 +92,8 @@ struct StepStats {
   double lcp_residual{0.0};       // worst natural-map residual
   int subdivisions{0};            // sub-steps added by halving
   double max_penetration_m{0.0};  // [m] deepest point beyond the wall at the end
-  int tunnels{0};  // points whose path from x_t crossed a wall into another lumen, re-solved
+  int tunnels{0};      // points whose path from x_t crossed a wall into another lumen, re-solved
+  bool asleep{false};  // the scene slept through this step (SleepOptions): nothing was solved
 };
 
 enum class StepStatus { kOk, kSolverFailure, kContactsUnsolved };
@@ -109,6 +113,8 @@ struct SimData {
   EffectCounters effect_calls;
   std::vector<VesselLocation> tips;     // per device: where its distal tip is (with vessels)
   std::vector<TargetProgress> targets;  // per scene target
+  int resting_steps{0};                 // consecutive steps in which nothing moved (SleepOptions)
+  bool asleep{false};                   // steps only advance the clock until wake()
   std::string last_error;               // why the last failed step was rejected
   std::vector<std::string>
       notices;  // scripted commands refused, drives at a limit (runners print and clear them)
@@ -134,6 +140,11 @@ int findDevice(const SceneModel& model, const std::string& name);
 /// microcatheter). Afterwards the pusher is driven as before and the coil is
 /// free.
 std::string detachDevice(const SceneModel& model, SimData* data, const std::string& device);
+
+/// Ends the scene's sleep (and its count of resting steps): the next step
+/// is solved. setCommand (a changed command), the script and detachDevice
+/// call it; so must a caller that changes the state or the model by hand.
+void wake(SimData* data);
 
 /// Sets a device's drive command; returns why it was refused ("" if accepted).
 std::string setCommand(const SceneModel& model, SimData* data, const std::string& device,

@@ -4,9 +4,10 @@
 //
 // Text, one record per line, doubles to 17 significant digits (the state
 // comes back bit for bit):
-//   evsim_state 1
+//   evsim_state 2
 //   scene <name>
-//   clock <time [s]> <step> <next script entry>
+//   clock <time [s]> <step> <next script entry> <resting steps> <asleep 0|1>
+//         (version 1 files end after the script entry: read as awake)
 //   device <name> <nodes> <inserted length [m]> <rotation angle [rad]> <released 0|1>
 //          <cut element>
 //   node <position [m] x3> <rotation w x y z> <velocity [m/s] x3> <angular velocity [rad/s] x3>

@@ -145,6 +145,14 @@ void prepareFreeMotion(const ContactProblem& pb, const ContactOptions& o, int lo
       }
     }
   }
+  // The first loop's QP is taken about x_t, later ones about the last
+  // iterate (wall_curvature.h).
+  if (loop == 1) {
+    std::vector<VecX> at_start = s->dq;
+    for (VecX& v : at_start) v.setZero();
+    curvedFreeMotion(pb, s->curvature, s->curved, s->band, at_start, &sys->dq_step, &sys->factor);
+    return;
+  }
   curvedFreeMotion(pb, s->curvature, s->curved, s->band, s->dq, &sys->dq_step, &sys->factor);
 }
 

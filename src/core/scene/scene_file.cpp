@@ -298,6 +298,13 @@ ScriptedCommand readCommand(const YamlReader& r, const YAML::Node& n, int index,
 
 }  // namespace
 
+std::string validateSleepOptions(const SleepOptions& o) {
+  if (!(o.displacement > 0.0 && o.displacement <= 1e-4))
+    return "displacement must lie in (0, 1e-4] m per step";
+  if (o.steps < 1 || o.steps > 1000000) return "steps must lie in [1, 1000000]";
+  return "";
+}
+
 const std::vector<std::string>& knownEffects() {
   static const std::vector<std::string> effects = {"gravity",     "vessel_motion", "device_contact",
                                                    "subdivision", "friction",      "coaxial"};
@@ -340,13 +347,35 @@ std::vector<TargetSpec> readTargets(const YamlReader& r, const YAML::Node& list,
   return out;
 }
 
+/// `sleep:` false, or a map {enabled, displacement, steps}.
+SleepOptions readSleep(const YamlReader& r, const YAML::Node& n) {
+  SleepOptions o;
+  if (n.IsScalar()) {
+    const std::string v = r.text(n, "sleep");
+    if (v != "true" && v != "false") r.fail(n, "sleep", "must be true, false or a map");
+    o.enabled = v == "true";
+    return o;
+  }
+  r.keys(n, "sleep", {"enabled", "displacement", "steps"});
+  if (n["enabled"]) {
+    const std::string v = r.text(n["enabled"], "sleep.enabled");
+    if (v != "true" && v != "false") r.fail(n["enabled"], "sleep.enabled", "must be true or false");
+    o.enabled = v == "true";
+  }
+  o.displacement = r.number(n, "displacement", "sleep.", o.displacement);
+  if (n["steps"]) o.steps = r.integer(n["steps"], "sleep.steps");
+  const std::string why = validateSleepOptions(o);
+  if (!why.empty()) r.fail(n, "sleep", why);
+  return o;
+}
+
 SceneSpec readSceneFile(const std::string& path) {
   const YamlReader r(path);
   const YAML::Node root = r.load();
   if (!root.IsMap()) r.fail(root, "", "a scene is a YAML map");
   r.keys(root, "",
          {"name", "description", "time_step", "duration", "effects", "gravity", "vessels",
-          "contact", "devices", "script", "targets"});
+          "contact", "sleep", "devices", "script", "targets"});
   SceneSpec s;
   s.file = path;
   s.name = r.text(r.required(root, "name", "name"), "name");
@@ -374,6 +403,7 @@ SceneSpec readSceneFile(const std::string& path) {
   const fs::path scene_dir = fs::path(path).parent_path();
   if (root["vessels"]) s.vessels = readVessels(r, root["vessels"], scene_dir);
   if (root["contact"]) s.contact = readContact(r, root["contact"]);
+  if (root["sleep"]) s.sleep = readSleep(r, root["sleep"]);
   s.contact.device_contact =
       std::find(s.effects.begin(), s.effects.end(), "device_contact") != s.effects.end();
   s.contact.friction = std::find(s.effects.begin(), s.effects.end(), "friction") != s.effects.end();

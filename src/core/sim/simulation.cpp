@@ -12,11 +12,16 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+bool sameCommand(const DriveCommand& a, const DriveCommand& b) {
+  return a.mode == b.mode && a.insertion == b.insertion && a.rotation == b.rotation;
+}
+
 void applyScript(const SceneModel& model, SimData* data) {
   while (data->next_script_entry < model.script.size() &&
          model.script[data->next_script_entry].time <= data->time + 1e-12) {
     const ScriptedCommand& c = model.script[data->next_script_entry++];
     if (!c.detach) {
+      if (!sameCommand(data->commands[c.device], c.command)) wake(data);
       data->commands[c.device] = c.command;
       continue;
     }
@@ -167,13 +172,15 @@ StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth)
 
 /// A drive that reached the end of its travel in the last step: its
 /// velocity command goes on, clamped (told once, when the end is reached).
-void noteDriveLimits(const SceneModel& model, const std::vector<double>& before, SimData* data) {
+void noteDriveLimits(const SceneModel& model, const std::vector<DeviceState>& before,
+                     SimData* data) {
   for (size_t i = 0; i < before.size(); ++i) {
     const DriveCommand& c = data->commands[i];
     if (c.mode != DriveCommand::Mode::kVelocity || c.insertion == 0.0) continue;
     const double now = data->devices[i].inserted_length, full = model.devices[i].length;
-    const bool out = c.insertion < 0.0 && now <= 0.0 && before[i] > 0.0;
-    const bool in = c.insertion > 0.0 && now >= full && before[i] < full;
+    const double was = before[i].inserted_length;
+    const bool out = c.insertion < 0.0 && now <= 0.0 && was > 0.0;
+    const bool in = c.insertion > 0.0 && now >= full && was < full;
     if (!out && !in) continue;
     std::ostringstream m;
     m << "t = " << data->time << " s: device '" << model.devices[i].name << "' "
@@ -181,6 +188,45 @@ void noteDriveLimits(const SceneModel& model, const std::vector<double>& before,
       << ": its drive stops there while the command of " << c.insertion << " m/s stands";
     data->notices.push_back(m.str());
   }
+}
+
+/// Counts the step just taken as resting when no drive moved (inserted
+/// length and angle as `before`) and no node moved more than
+/// SleepOptions::displacement; after SleepOptions::steps such steps the
+/// scene sleeps, its velocities zeroed.
+void noteRest(const SceneModel& model, const std::vector<DeviceState>& before, SimData* data) {
+  const SleepOptions& o = model.sleep;
+  if (!o.enabled || model.effects.vessel_motion) return;
+  const double dt = model.time_step;
+  bool rest = data->stats.subdivisions == 0;
+  for (size_t i = 0; i < model.devices.size() && rest; ++i) {
+    const DeviceState& x = data->devices[i];
+    rest = x.inserted_length == before[i].inserted_length &&
+           x.rotation_angle == before[i].rotation_angle;
+    double arm = 0.0;  // a node's turn moves its element's far end by angle * length
+    for (const auto& e : model.devices[i].elements) arm = std::max(arm, e.length);
+    for (size_t n = 0; n < x.position.size() && rest; ++n)
+      rest = x.velocity[n].norm() * dt <= o.displacement &&
+             x.angular_velocity[n].norm() * dt * arm <= o.displacement;
+  }
+  data->resting_steps = rest ? data->resting_steps + 1 : 0;
+  if (data->resting_steps < o.steps) return;
+  data->asleep = true;
+  for (DeviceState& x : data->devices) {
+    for (Vec3& v : x.velocity) v.setZero();
+    for (Vec3& w : x.angular_velocity) w.setZero();
+  }
+  std::ostringstream m;
+  m << "t = " << data->time << " s: nothing moved more than " << o.displacement * 1e9
+    << " nm per step for " << o.steps << " steps: the scene sleeps until a command";
+  data->notices.push_back(m.str());
+}
+
+/// The statistics of a step slept through: the kept contacts.
+void sleepingStep(SimData* data) {
+  data->stats.asleep = true;
+  data->stats.contacts = static_cast<int>(data->contacts.size());
+  for (const Contact& c : data->contacts) data->stats.active_contacts += c.force > 0.0;
 }
 
 /// Every device's access point lies in a lumen wide enough for it: else the
@@ -308,6 +354,8 @@ SceneModel buildSceneModel(const SceneSpec& spec) {
   m.targets = resolveTargets(spec, m.atlas.get());
   m.contact = spec.contact;
   m.contact.friction = m.effects.friction;
+  m.sleep = spec.sleep;
+  if (m.effects.vessel_motion) m.sleep.enabled = false;
   for (const auto& d : spec.devices) {
     m.devices.push_back(buildDeviceModel(d.device));
     m.introducers.push_back(d.introducer);
@@ -371,6 +419,7 @@ std::string detachDevice(const SceneModel& model, SimData* data, const std::stri
     return why.str();
   }
   state.cut_element = m.detach_element;
+  wake(data);
   return "";
 }
 
@@ -394,13 +443,20 @@ StepStatus stepOrRecover(const SceneModel& model, SimData* data, bool* recovered
   return retry;
 }
 
+void wake(SimData* data) {
+  data->asleep = false;
+  data->resting_steps = 0;
+}
+
 std::string setCommand(const SceneModel& model, SimData* data, const std::string& device,
                        const DriveCommand& command) {
   const int i = findDevice(model, device);
   if (i < 0) return "unknown device '" + device + "'";
   std::string why = validateDriveCommand(command, model.devices[i]);
-  if (why.empty()) data->commands[i] = command;
-  return why;
+  if (!why.empty()) return why;
+  if (!sameCommand(data->commands[i], command)) wake(data);
+  data->commands[i] = command;
+  return "";
 }
 
 StepStatus step(const SceneModel& model, SimData* data) {
@@ -408,14 +464,23 @@ StepStatus step(const SceneModel& model, SimData* data) {
   data->stats = StepStats{};
   applyScript(model, data);
   const double t_end = data->time + model.time_step;
-  std::vector<double> inserted(data->devices.size());
-  for (size_t i = 0; i < inserted.size(); ++i) inserted[i] = data->devices[i].inserted_length;
+  if (data->asleep) {
+    data->time = t_end;
+    ++data->step;
+    sleepingStep(data);
+    data->stats.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    return StepStatus::kOk;
+  }
+  const std::vector<DeviceState> before = data->devices;
   const StepStatus status = advance(model, data, model.time_step, 0);
   if (status == StepStatus::kOk) {
     data->time = t_end;  // no drift from summed halves
     ++data->step;
-    noteDriveLimits(model, inserted, data);
+    noteDriveLimits(model, before, data);
     locateTips(model, data);
+    noteRest(model, before, data);
+  } else {
+    data->resting_steps = 0;
   }
   data->stats.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   return status;

@@ -11,7 +11,7 @@
 namespace evsim {
 namespace {
 
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;  // 1: without the sleep fields of `clock` (read as awake)
 
 /// One record per line: a key, then fields read in order; every error names
 /// the file, the line and the field.
@@ -88,8 +88,9 @@ void writeVec3(std::FILE* f, const Vec3& v) {
 bool saveState(const SceneModel& model, const SimData& data, const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) return false;
-  std::fprintf(f, "evsim_state %d\nscene %s\nclock %.17g %ld %zu\n", kVersion, model.name.c_str(),
-               data.time, data.step, data.next_script_entry);
+  std::fprintf(f, "evsim_state %d\nscene %s\nclock %.17g %ld %zu %d %d\n", kVersion,
+               model.name.c_str(), data.time, data.step, data.next_script_entry, data.resting_steps,
+               data.asleep ? 1 : 0);
   for (size_t d = 0; d < data.devices.size(); ++d) {
     const DeviceState& s = data.devices[d];
     std::fprintf(f, "device %s %zu %.17g %.17g %d %d\n", model.devices[d].name.c_str(),
@@ -132,9 +133,11 @@ void loadState(const SceneModel& model, const std::string& path, SimData* data) 
     std::vector<DeviceState> devices;
     std::vector<DriveCommand> commands;
     std::vector<Contact> contacts;
-  } next{0.0, 0, 0, data->devices, data->commands, {}};
+    int resting_steps;
+    bool asleep;
+  } next{0.0, 0, 0, data->devices, data->commands, {}, 0, false};
   r.record("evsim_state");
-  r.integer("version", kVersion, kVersion);
+  const long version = r.integer("version", 1, kVersion);
   r.end("evsim_state");
   r.record("scene");
   const std::string scene = r.word("scene");
@@ -146,6 +149,10 @@ void loadState(const SceneModel& model, const std::string& path, SimData* data) 
   next.step = r.integer("step", 0, 1L << 50);
   next.next_script_entry = static_cast<size_t>(
       r.integer("next script entry", 0, static_cast<long>(model.script.size())));
+  if (version >= 2) {
+    next.resting_steps = static_cast<int>(r.integer("resting steps", 0, 1000000000));
+    next.asleep = r.integer("asleep", 0, 1) == 1;
+  }
   r.end("clock");
   const int nd = static_cast<int>(model.devices.size());
   for (int d = 0; d < nd; ++d) {
@@ -227,6 +234,8 @@ void loadState(const SceneModel& model, const std::string& path, SimData* data) 
   data->time = next.time;
   data->step = next.step;
   data->next_script_entry = next.next_script_entry;
+  data->resting_steps = next.resting_steps;
+  data->asleep = next.asleep;
   data->targets.clear();  // progress is not saved: it restarts at the loaded state
   locateTips(model, data);
 }

@@ -1,0 +1,115 @@
+// Sleep (SleepOptions): a scene at rest stops solving steps until something
+// wakes it. Checked against the same run with sleep off (the reference):
+// the state it sleeps in and the state after it wakes agree; while it
+// sleeps nothing is computed (the gravity counter stands still); a changed
+// command wakes it, a repeated one does not; moving vessels never sleep;
+// the sleep survives a state file.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "endovascular_sim/sim/simulation.h"
+#include "endovascular_sim/sim/state_file.h"
+
+namespace evsim {
+namespace {
+
+SceneModel carotid(bool sleep) {
+  SceneSpec spec = loadSceneFile(resolveScenePath("carotid"));
+  spec.sleep.enabled = sleep;
+  return buildSceneModel(spec);
+}
+
+/// Largest distance between the two runs' nodes [m].
+double largestGap(const SimData& a, const SimData& b) {
+  double gap = 0.0;
+  for (size_t d = 0; d < a.devices.size(); ++d)
+    for (size_t n = 0; n < a.devices[d].position.size(); ++n)
+      gap = std::max(gap, (a.devices[d].position[n] - b.devices[d].position[n]).norm());
+  return gap;
+}
+
+void stepBoth(const SceneModel& ma, SimData* a, const SceneModel& mb, SimData* b, long steps) {
+  for (long k = 0; k < steps; ++k) {
+    ASSERT_EQ(step(ma, a), StepStatus::kOk) << a->last_error;
+    ASSERT_EQ(step(mb, b), StepStatus::kOk) << b->last_error;
+  }
+}
+
+// The carotid wire is fully inserted at 9.3 s and rests from then on.
+TEST(Sleep, ARestingWireSleepsWhereTheReferenceRestsAndWakesOnACommand) {
+  const SceneModel sleepy = carotid(true), awake = carotid(false);
+  SimData s = makeData(sleepy), r = makeData(awake);
+  stepBoth(sleepy, &s, awake, &r, 11000);
+  ASSERT_TRUE(s.asleep) << "the wire rests from about 9.5 s";
+  EXPECT_FALSE(r.asleep);
+  EXPECT_LT(largestGap(s, r), 1e-6);
+
+  // Asleep, steps compute nothing: the free motion (gravity) is not entered.
+  const long gravity = s.effect_calls.gravity;
+  stepBoth(sleepy, &s, awake, &r, 200);
+  EXPECT_EQ(s.effect_calls.gravity, gravity);
+  EXPECT_TRUE(s.stats.asleep);
+  EXPECT_EQ(s.stats.active_contacts, r.stats.active_contacts);  // the kept contacts
+  EXPECT_DOUBLE_EQ(s.time, r.time);
+
+  // The joystick repeats its last command: no wake. A changed one wakes it.
+  const DriveCommand standing = s.commands[0];
+  ASSERT_EQ(setCommand(sleepy, &s, "guidewire", standing), "");
+  EXPECT_TRUE(s.asleep);
+  const DriveCommand retract{DriveCommand::Mode::kVelocity, -0.01, 0.0};
+  ASSERT_EQ(setCommand(sleepy, &s, "guidewire", retract), "");
+  ASSERT_EQ(setCommand(awake, &r, "guidewire", retract), "");
+  EXPECT_FALSE(s.asleep);
+  stepBoth(sleepy, &s, awake, &r, 500);  // 5 mm back out
+  EXPECT_FALSE(s.stats.asleep);
+  EXPECT_GT(s.effect_calls.gravity, gravity);
+  const double gap = largestGap(s, r);
+  std::printf("[ metric   ] sleeping and reference runs: %.3g um apart after waking\n", gap * 1e6);
+  EXPECT_LT(gap, 1e-6);
+}
+
+TEST(Sleep, MovingVesselsNeverSleep) {
+  const SceneModel m = loadScene("network");
+  ASSERT_TRUE(m.effects.vessel_motion);
+  EXPECT_FALSE(m.sleep.enabled);
+}
+
+TEST(Sleep, AStateFileKeepsTheSleep) {
+  const SceneModel m = carotid(true);
+  SimData a = makeData(m);
+  for (long k = 0; k < 11000; ++k) ASSERT_EQ(step(m, &a), StepStatus::kOk) << a.last_error;
+  ASSERT_TRUE(a.asleep);
+  const std::string path = (std::filesystem::temp_directory_path() / "evsim_sleep_state.txt");
+  ASSERT_TRUE(saveState(m, a, path));
+  SimData b = makeData(m);
+  loadState(m, path, &b);
+  EXPECT_TRUE(b.asleep);
+  EXPECT_EQ(b.resting_steps, a.resting_steps);
+
+  // A version 1 file (no sleep fields) loads awake.
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(path);
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+  }
+  ASSERT_GT(lines.size(), 3u);
+  lines[0] = "evsim_state 1";
+  for (int k = 0; k < 2; ++k) lines[2].erase(lines[2].rfind(' '));
+  {
+    std::ofstream out(path);
+    for (const std::string& l : lines) out << l << "\n";
+  }
+  SimData c = makeData(m);
+  loadState(m, path, &c);
+  EXPECT_FALSE(c.asleep);
+  EXPECT_EQ(c.step, a.step);
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace evsim
