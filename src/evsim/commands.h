@@ -22,6 +22,8 @@ struct RunOptions {
   std::string load_state;  // state file to start from ("" none)
   std::string save_state;  // where the last good state goes ("" none)
   bool strict{false};      // fail at a step the scene's options cannot solve (no recovery)
+  std::string vtk;         // folder for ParaView frames ("" none; vtk_output.h)
+  double vtk_rate{25.0};   // [Hz] of simulated time between frames
 };
 /// `evsim run`: steps a scene, a progress line per 0.1 s or a JSON line per step.
 int runScene(const RunOptions& options);
@@ -67,11 +69,16 @@ int benchNavigation(const NavigationBenchOptions& options);
 
 struct MeshOptions {
   std::string scene;
-  std::string out;            // .ply or .stl
+  std::string out;            // .vtp, .stl or .ply
   double spacing{0.0};        // [m], 0: automatic
   double device_radius{0.0};  // [m]
 };
 /// `evsim mesh`: the vessel surface as a triangle mesh.
 int meshScene(const MeshOptions& options);
+
+/// `evsim vessels`: a scene's vessel tree (branch ids for a VTK
+/// centreline's names), how closely its surface keeps the radii, and what a
+/// field evaluation costs.
+int vesselsCommand(const std::string& scene);
 
 }  // namespace evsim

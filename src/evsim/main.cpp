@@ -29,6 +29,10 @@ void addRun(CLI::App& app, RunOptions* o) {
   run->add_option("--load-state", o->load_state, "start from a state saved by --save-state");
   run->add_option("--save-state", o->save_state,
                   "save the last good state (also after a failed step)");
+  run->add_option("--vtk", o->vtk,
+                  "write ParaView frames here: devices and contacts per frame, .pvd series");
+  run->add_option("--vtk-rate", o->vtk_rate, "frames per simulated second (default 25)")
+      ->check(CLI::Range(0.001, 100000.0));
   run->add_flag("--strict", o->strict,
                 "fail at a step the scene's options cannot solve (default: retry it once with "
                 "the recovery options and say so)");
@@ -84,7 +88,7 @@ void addBench(CLI::App& app, BenchOptions* o, std::string* what, double* duratio
 void addMesh(CLI::App& app, MeshOptions* o) {
   CLI::App* mesh = app.add_subcommand("mesh", "the vessel surface as a triangle mesh");
   mesh->add_option("scene", o->scene, kSceneHelp)->required();
-  mesh->add_option("--out", o->out, "output file, .ply or .stl")->required();
+  mesh->add_option("--out", o->out, "output file, .vtp (ParaView), .stl or .ply")->required();
   mesh->add_option("--spacing", o->spacing, "grid spacing [m] (0: automatic)")
       ->check(CLI::Range(0.0, 0.01) &
               CLI::Validator(
@@ -126,11 +130,16 @@ int dispatch(int argc, char** argv) {
   addMesh(app, &mesh);
   addNavigate(app, &navigate);
   app.add_subcommand("list", "the shipped scenes");
+  std::string vessels_scene;
+  app.add_subcommand("vessels",
+                     "a scene's vessel tree, its branch ids, the surface's fidelity to the radii")
+      ->add_option("scene", vessels_scene, kSceneHelp)
+      ->required();
   const auto known =
       app.get_subcommands([&](const CLI::App* c) { return argc > 1 && c->get_name() == argv[1]; });
   if (argc > 1 && argv[1][0] != '-' && known.empty()) {
     std::cerr << "evsim: unknown command '" << argv[1]
-              << "' (run, bench, navigate, mesh, list; evsim --help)\n";
+              << "' (run, bench, navigate, mesh, vessels, list; evsim --help)\n";
     return kExitBadInput;
   }
   try {
@@ -142,6 +151,7 @@ int dispatch(int argc, char** argv) {
   if (app.got_subcommand("run")) return runScene(run);
   if (app.got_subcommand("mesh")) return meshScene(mesh);
   if (app.got_subcommand("navigate")) return navigateScene(navigate);
+  if (app.got_subcommand("vessels")) return vesselsCommand(vessels_scene);
   if (app.got_subcommand("list")) {
     for (const auto& s : shippedScenes()) std::cout << s << "\n";
     return kExitOk;

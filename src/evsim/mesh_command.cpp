@@ -6,6 +6,7 @@
 #include "endovascular_sim/geometry/surface_mesh.h"
 #include "endovascular_sim/scene/scene_file.h"
 #include "output_paths.h"
+#include "vtk_output.h"
 
 namespace evsim {
 
@@ -25,7 +26,8 @@ int meshScene(const MeshOptions& o) {
   const SurfaceMesh mesh = meshVesselSurface(field, o.spacing, o.device_radius);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::string why;
-  if (!writeMesh(mesh, o.out, &why)) {
+  const bool vtp = o.out.size() > 4 && o.out.compare(o.out.size() - 4, 4, ".vtp") == 0;
+  if (!(vtp ? writeSurfaceVtp(mesh, o.out, &why) : writeMesh(mesh, o.out, &why))) {
     std::cerr << "evsim: " << why << "\n";
     return kExitFailure;
   }

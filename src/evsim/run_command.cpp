@@ -11,6 +11,7 @@
 #include "endovascular_sim/sim/state_file.h"
 #include "output_paths.h"
 #include "step_json.h"
+#include "vtk_output.h"
 
 namespace evsim {
 
@@ -23,10 +24,11 @@ int runScene(const RunOptions& o) {
       return kExitBadInput;
     }
   }
-  if (!o.dump_lcp.empty()) {
-    const std::string why = prepareOutputFolder(o.dump_lcp);
+  for (const auto& [flag, folder] : {std::pair{"--dump-lcp", &o.dump_lcp}, {"--vtk", &o.vtk}}) {
+    if (folder->empty()) continue;
+    const std::string why = prepareOutputFolder(*folder);
     if (!why.empty()) {
-      std::cerr << "evsim: --dump-lcp: " << why << "\n";
+      std::cerr << "evsim: " << flag << ": " << why << "\n";
       return kExitBadInput;
     }
   }
@@ -42,6 +44,15 @@ int runScene(const RunOptions& o) {
     return false;
   };
   data.record_lcp = !o.dump_lcp.empty();
+  VtkSeries frames(o.vtk);
+  const long frame_every = std::max(1L, std::lround(1.0 / (o.vtk_rate * model.time_step)));
+  auto frame = [&]() {
+    std::string why;
+    if (o.vtk.empty() || frames.write(model, data, &why)) return true;
+    std::cerr << "evsim: --vtk: " << why << "\n";
+    return false;
+  };
+  if (!frame()) return kExitFailure;  // the start
   const long report_every = std::max(1L, static_cast<long>(0.1 / model.time_step + 0.5));
   double wall_ms = 0.0;
   for (long k = 0; k < steps; ++k) {
@@ -59,6 +70,7 @@ int runScene(const RunOptions& o) {
     for (const std::string& notice : data.notices) std::cerr << "evsim: " << notice << "\n";
     data.notices.clear();
     wall_ms += data.stats.wall_ms;
+    if (data.step % frame_every == 0 && !frame()) return kExitFailure;
     if (data.record_lcp && data.lcp.q.size() > 0) {
       char name[64];
       std::snprintf(name, sizeof(name), "/step_%07ld.lcp", data.step);
@@ -81,8 +93,13 @@ int runScene(const RunOptions& o) {
                     << model.atlas->vessels()[data.tips[i].vessel].name << " at "
                     << data.tips[i].depth * 1e3 << " mm";
       std::cout << "  contacts=" << data.stats.contacts << "  mean step " << wall_ms / (k + 1)
-                << " ms\n";
+                << " ms" << (data.stats.asleep ? "  asleep" : "") << "\n";
     }
+  }
+  std::string why;
+  if (!o.vtk.empty() && !frames.finish(&why)) {
+    std::cerr << "evsim: --vtk: " << why << "\n";
+    return kExitFailure;
   }
   return save() ? kExitOk : kExitFailure;
 }

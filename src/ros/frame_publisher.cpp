@@ -164,7 +164,9 @@ void FramePublisher::publishDiagnostics(const FrameSnapshot& f, const LoopTiming
     s.message = m.str();
   } else {
     s.level = diagnostic_msgs::DiagnosticStatus::OK;
-    s.message = f.paused ? "paused" : "running in real time";
+    s.message = f.paused         ? "paused"
+                : f.stats.asleep ? "at rest: the scene sleeps until a command changes a drive"
+                                 : "running in real time";
   }
   s.values.push_back(keyValue("publish rate [Hz]", publish_rate_hz));
   s.values.push_back(keyValue("steps per frame", timing.steps_per_frame));

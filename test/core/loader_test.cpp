@@ -468,3 +468,86 @@ TEST_F(Loader, ATargetMustNameAVesselOfTheScene) {
 
 }  // namespace
 }  // namespace evsim
+
+namespace evsim {
+namespace {
+
+/// kScene on the shipped patient example (a VTK centreline), `vessels` as given.
+std::string vtkScene(const std::string& vessels) {
+  std::string text = kScene;
+  text.replace(text.find("devices:"), 8, "vessels: " + vessels + "\ndevices:");
+  return text;
+}
+
+TEST_F(Loader, AVtkCentrelineNeedsItsUnitsDeclared) {
+  write("wire.urdf", kDevice);
+  const std::string file = configDirectory() + "/vessels/example_patient.vtp";
+  const LoadError e = errorFor(vtkScene("{centerline: " + file + "}"), "scene.yaml", "", "",
+                               [](const std::string& p) { loadSceneFile(p); });
+  expectNames(e, "scene.yaml", 5, "vessels.units", "SimVascular models are in cm");
+}
+
+TEST_F(Loader, VtkKeysAreRefusedForAnSwcCentreline) {
+  write("wire.urdf", kDevice);
+  const std::string file = configDirectory() + "/vessels/carotid.swc";
+  const LoadError e =
+      errorFor(vtkScene("{centerline: " + file + ", radius_array: Radius}"), "scene.yaml", "", "",
+               [](const std::string& p) { loadSceneFile(p); });
+  expectNames(e, "scene.yaml", 5, "vessels.radius_array", "applies to a VTK centreline");
+}
+
+TEST_F(Loader, AMissingRadiusArrayListsTheArraysPresent) {
+  write("wire.urdf", kDevice);
+  const std::string file = configDirectory() + "/vessels/example_patient.vtp";
+  const std::string path =
+      write("scene.yaml", vtkScene("{centerline: " + file + ", units: mm, radius_array: Radius}"));
+  try {
+    buildSceneModel(loadSceneFile(path));
+    ADD_FAILURE() << "accepted";
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("no point-data array 'Radius'"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("its point arrays: MaximumInscribedSphereRadius"),
+              std::string::npos)
+        << e.what();
+    EXPECT_EQ(e.file(), file);
+  }
+}
+
+TEST_F(Loader, BranchNamesMustBeVesselNamesOnce) {
+  write("wire.urdf", kDevice);
+  const std::string v = "{centerline: " + configDirectory() +
+                        "/vessels/example_patient.vtp, units: mm, names: {0: aorta, 1: ";
+  auto fails = [&](const std::string& second, const std::string& words) {
+    const LoadError e = errorFor(vtkScene(v + second + "}}"), "scene.yaml", "", "",
+                                 [](const std::string& p) { loadSceneFile(p); });
+    EXPECT_EQ(e.field(), "vessels.names.1") << e.what();
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  };
+  fails("Aorta", "not a vessel name");
+  fails("aorta", "also names branch 0");
+}
+
+TEST_F(Loader, InletAccessNeedsVesselsAndTakesNoDirection) {
+  const LoadError none = sceneError("access_point: [0, 0, 0]\n    insertion_direction: [1, 0, 0]",
+                                    "access_point: inlet");
+  expectNames(none, "scene.yaml", 7, "devices[0].access_point", "inlet needs vessels");
+  const LoadError direction = errorFor(carotidScene("inlet"), "scene.yaml", "", "",
+                                       [](const std::string& p) { loadSceneFile(p); });
+  expectNames(direction, "scene.yaml", 9, "devices[0].insertion_direction",
+              "follows the centreline");
+}
+
+TEST_F(Loader, SleepOptionsAreChecked) {
+  const LoadError word = sceneError("devices:", "sleep: maybe\ndevices:");
+  expectNames(word, "scene.yaml", 5, "sleep", "true, false or a map");
+  const LoadError range = sceneError("devices:", "sleep: {displacement: -1}\ndevices:");
+  expectNames(range, "scene.yaml", 5, "sleep", "displacement must lie in");
+  write("wire.urdf", kDevice);
+  std::string text = kScene;
+  text.replace(text.find("devices:"), 8, "sleep: false\ndevices:");
+  EXPECT_FALSE(loadSceneFile(write("off.yaml", text)).sleep.enabled);
+}
+
+}  // namespace
+}  // namespace evsim

@@ -261,6 +261,15 @@ class NavigationNodeTest(unittest.TestCase):
         path = rospy.wait_for_message('devices/coil/path', Path, timeout=10)
         self.assertGreater(len(path.poses), 10)
 
+    def test_a_patient_centreline_loads_like_any_scene(self):
+        # patient_example: a VTK centreline (VMTK layout), its branches named
+        res = self.load_scene('patient_example')
+        self.assertTrue(res.success, res.message)
+        self.wait_for(lambda: self.stats.scene == 'patient_example', 'patient_example stats')
+        self.wait_for(lambda: self.device_names() == ['guidewire'], 'the guidewire')
+        self.wait_for(lambda: self.device('guidewire').tip_vessel == 'descending_aorta',
+                      'the tip in the named descending aorta')
+
     def test_every_new_vessels_subscriber_gets_the_scene_mesh(self):
         from visualization_msgs.msg import Marker
         # free_insertion (setUp) has no vessels: a new subscriber is told so

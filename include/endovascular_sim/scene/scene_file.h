@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "endovascular_sim/contact/contact_solver.h"
+#include "endovascular_sim/geometry/centerline_tree.h"
 #include "endovascular_sim/geometry/network_generator.h"
 #include "endovascular_sim/geometry/vessel_field.h"
 #include "endovascular_sim/mechanics/device_model.h"
@@ -27,6 +28,7 @@ struct DevicePlacementSpec {
   double max_element_length{0.0};
   int max_element_length_line{0};
   int access_point_line{0};  // the scene file's line of access_point (0: none)
+  bool at_inlet{false};      // `access_point: inlet`: placed by inletIntroducer when built
 };
 
 /// A navigation target (`targets:`; see sim/targets.h).
@@ -64,9 +66,13 @@ std::string validateSleepOptions(const SleepOptions& o);
 /// The vessels of a scene (none: free space).
 struct VesselSpec {
   bool present{false};
-  std::string centerline_file;  // resolved SWC path
-  double units{1e-3};           // [m] per SWC unit without a header
-  VesselFieldOptions field;     // blend alpha
+  std::string centerline_file;  // resolved path: SWC, or VTK PolyData (.vtp, .vtk)
+  double units{1e-3};           // [m] per file unit (SWC: without a header; VTK: declared)
+  // A VTK centreline (scene/centerline_vtk.h): the radius array, the tree's
+  // tolerances, its inlet and branch names.
+  std::string radius_array{"MaximumInscribedSphereRadius"};
+  CenterlineTreeOptions tree;
+  VesselFieldOptions field;  // blend alpha
   bool grow_network{false};
   NetworkOptions network;
   std::vector<AneurysmSpec> aneurysms;
@@ -94,7 +100,13 @@ struct SceneSpec {
 
 /// Builds the centreline (with its generated network) and the field of a
 /// scene's vessels; `with_motion` adds the motion regions.
-Centerline buildCenterline(const VesselSpec& spec);
+/// The introducer at a centreline's inlet (its first root): one root
+/// radius along the first branch, pointing along it.
+Introducer inletIntroducer(const Centerline& centerline);
+
+/// Warnings about a usable but suspect tree (a VTK centreline's dropped
+/// pieces, crowded branches) go to *warnings when given.
+Centerline buildCenterline(const VesselSpec& spec, std::vector<std::string>* warnings = nullptr);
 VesselField buildVesselField(const VesselSpec& spec, bool with_motion);
 
 /// Effects a scene may name.

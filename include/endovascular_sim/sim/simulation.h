@@ -68,7 +68,8 @@ struct SceneModel {
   std::vector<double> initial_rotation;         // [rad]
   std::vector<int> outer_of;  // effect 'coaxial': per device its outer device (-1); else empty
   std::vector<ScriptedCommand> script;
-  double duration{1.0};  // [s] of the scripted procedure (SceneSpec::duration)
+  double duration{1.0};               // [s] of the scripted procedure (SceneSpec::duration)
+  std::vector<std::string> warnings;  // from loading: a usable but suspect vessel tree
 };
 
 /// Statistics of the last step (reset every step; sums over its sub-steps).

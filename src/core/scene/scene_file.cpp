@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/scene/centerline_vtk.h"
 #include "endovascular_sim/scene/device_file.h"
 #include "endovascular_sim/scene/yaml_reader.h"
 
@@ -51,6 +52,14 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
       if (n[key])
         r.fail(n[key], p + key,
                "a device inside another enters through that device's introducer: remove it");
+  } else if (n["access_point"] && n["access_point"].IsScalar()) {
+    if (r.text(n["access_point"], p + "access_point") != "inlet")
+      r.fail(n["access_point"], p + "access_point", "must be [x, y, z] or inlet");
+    for (const char* key : {"insertion_direction", "up"})
+      if (n[key])
+        r.fail(n[key], p + key, "follows the centreline at its inlet (access_point: inlet)");
+    d.at_inlet = true;
+    d.access_point_line = n["access_point"].Mark().line + 1;
   } else {
     d.introducer.access_point =
         r.vector3(r.required(n, "access_point", p + "access_point"), p + "access_point");
@@ -95,22 +104,62 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
 VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path& scene_dir) {
   VesselSpec v;
   v.present = true;
-  r.keys(n, "vessels", {"centerline", "units", "blend", "network", "aneurysms", "motion"});
+  r.keys(n, "vessels",
+         {"centerline", "units", "blend", "network", "aneurysms", "motion", "radius_array",
+          "tolerance", "radius_tolerance", "inlet", "names"});
   const fs::path file =
       r.text(r.required(n, "centerline", "vessels.centerline"), "vessels.centerline");
   v.centerline_file = (file.is_absolute() ? file : scene_dir / file).lexically_normal().string();
   if (!fs::exists(v.centerline_file))
     r.fail(n["centerline"], "vessels.centerline", "no centreline file " + v.centerline_file);
+  const bool vtk = isVtkCenterlinePath(v.centerline_file);
+  if (vtk && !n["units"])
+    r.fail(n["centerline"], "vessels.units",
+           "a VTK centreline needs its units declared (m, cm, mm or um): SimVascular models are "
+           "in cm, most VMTK output in mm");
   if (n["units"]) {
     const std::string u = r.text(n["units"], "vessels.units");
     if (u == "m")
       v.units = 1.0;
+    else if (u == "cm")
+      v.units = 1e-2;
     else if (u == "mm")
       v.units = 1e-3;
     else if (u == "um")
       v.units = 1e-6;
     else
-      r.fail(n["units"], "vessels.units", "must be m, mm or um");
+      r.fail(n["units"], "vessels.units", "must be m, cm, mm or um");
+  }
+  for (const char* key : {"radius_array", "tolerance", "radius_tolerance", "inlet", "names"})
+    if (n[key] && !vtk)
+      r.fail(n[key], std::string("vessels.") + key, "applies to a VTK centreline (.vtp, .vtk)");
+  if (n["radius_array"]) v.radius_array = r.text(n["radius_array"], "vessels.radius_array");
+  v.tree.tolerance = 1e-3 * r.number(n, "tolerance", "vessels.", v.tree.tolerance * 1e3);
+  if (!(v.tree.tolerance >= 1e-6 && v.tree.tolerance <= 1e-3))
+    r.fail(n["tolerance"], "vessels.tolerance", "must lie in [0.001, 1] mm");
+  v.tree.radius_tolerance = r.number(n, "radius_tolerance", "vessels.", v.tree.radius_tolerance);
+  if (!(v.tree.radius_tolerance >= 0.001 && v.tree.radius_tolerance <= 0.2))
+    r.fail(n["radius_tolerance"], "vessels.radius_tolerance", "must lie in [0.001, 0.2]");
+  if (n["inlet"]) {
+    v.tree.has_inlet = true;
+    v.tree.inlet = v.units * r.vector3(n["inlet"], "vessels.inlet");
+  }
+  if (n["names"]) {
+    const YAML::Node names = n["names"];
+    if (!names.IsMap()) r.fail(names, "vessels.names", "must map branch ids to vessel names");
+    for (const auto& kv : names) {
+      const int id = r.integer(kv.first, "vessels.names");
+      if (id < 0) r.fail(kv.first, "vessels.names", "branch ids are >= 0");
+      const std::string name = r.text(kv.second, "vessels.names." + std::to_string(id));
+      if (!isVesselName(name))
+        r.fail(kv.second, "vessels.names." + std::to_string(id),
+               "'" + name + "' is not a vessel name ([a-z][a-z0-9_]*)");
+      for (const auto& [other, taken] : v.tree.names)
+        if (taken == name)
+          r.fail(kv.second, "vessels.names." + std::to_string(id),
+                 "'" + name + "' also names branch " + std::to_string(other));
+      v.tree.names[id] = name;
+    }
   }
   v.field.alpha = r.number(n, "blend", "vessels.", 0.6);
   if (!(v.field.alpha >= 0.3 && v.field.alpha <= 0.95))
@@ -419,6 +468,9 @@ SceneSpec readSceneFile(const std::string& path) {
   bool any_inside = false;
   for (size_t i = 0; i < devices.size(); ++i) {
     s.devices.push_back(readDevice(r, devices[i], static_cast<int>(i), scene_dir));
+    if (s.devices.back().at_inlet && !s.vessels.present)
+      r.fail(devices[i]["access_point"], "devices[" + std::to_string(i) + "].access_point",
+             "inlet needs vessels");
     for (size_t j = 0; j < i; ++j)
       if (s.devices[j].device.name == s.devices[i].device.name)
         r.fail(devices[i], "devices[" + std::to_string(i) + "].name",
@@ -462,8 +514,53 @@ SceneSpec loadSceneFile(const std::string& path) {
   }
 }
 
-Centerline buildCenterline(const VesselSpec& spec) {
-  Centerline c = loadCenterlineFile(spec.centerline_file, spec.units);
+Introducer inletIntroducer(const Centerline& c) {
+  int root = -1, next = -1;
+  for (int i = 0; i < c.numPoints() && root < 0; ++i)
+    if (c.parent[i] < 0) root = i;
+  if (root < 0) return {};
+  // Along the first branch from the root, one root radius in: past the
+  // rounded end of the surface, inside the lumen.
+  const double depth = c.radius[root];
+  double walked = 0.0;
+  int at = root;
+  while (true) {
+    next = -1;
+    for (int i = 0; i < c.numPoints() && next < 0; ++i)
+      if (c.parent[i] == at) next = i;
+    if (next < 0) break;
+    const double len = (c.position[next] - c.position[at]).norm();
+    if (walked + len >= depth) {
+      const Vec3 dir = (c.position[next] - c.position[at]).normalized();
+      Introducer intro;
+      intro.access_point = c.position[at] + (depth - walked) * dir;
+      intro.frame = introducerFrame(dir, dir.unitOrthogonal());
+      return intro;
+    }
+    walked += len;
+    at = next;
+  }
+  const int parent = c.parent[at] >= 0 ? c.parent[at] : root;
+  Introducer intro;
+  intro.access_point = c.position[at];
+  if (parent != at)
+    intro.frame = introducerFrame((c.position[at] - c.position[parent]).normalized(),
+                                  (c.position[at] - c.position[parent]).unitOrthogonal());
+  return intro;
+}
+
+Centerline buildCenterline(const VesselSpec& spec, std::vector<std::string>* warnings) {
+  Centerline c;
+  if (isVtkCenterlinePath(spec.centerline_file)) {
+    CenterlineTreeReport report;
+    c = loadVtkCenterline(spec.centerline_file, {spec.units, spec.radius_array, spec.tree},
+                          &report);
+    if (warnings)
+      for (const std::string& w : report.warnings)
+        warnings->push_back(spec.centerline_file + ": " + w);
+  } else {
+    c = loadCenterlineFile(spec.centerline_file, spec.units);
+  }
   if (spec.grow_network) growNetwork(spec.network, &c);
   return c;
 }

@@ -216,10 +216,6 @@ void noteRest(const SceneModel& model, const std::vector<DeviceState>& before, S
     for (Vec3& v : x.velocity) v.setZero();
     for (Vec3& w : x.angular_velocity) w.setZero();
   }
-  std::ostringstream m;
-  m << "t = " << data->time << " s: nothing moved more than " << o.displacement * 1e9
-    << " nm per step for " << o.steps << " steps: the scene sleeps until a command";
-  data->notices.push_back(m.str());
 }
 
 /// The statistics of a step slept through: the kept contacts.
@@ -321,8 +317,9 @@ VesselLocation locateInVessels(const SceneModel& model, const SimData& data, con
   return model.atlas->locate(p - model.vessels->displacement(p, motion));
 }
 
-SceneModel buildSceneModel(const SceneSpec& spec) {
-  checkSceneLimits(spec);
+SceneModel buildSceneModel(const SceneSpec& file_spec) {
+  checkSceneLimits(file_spec);
+  SceneSpec spec = file_spec;  // devices at the inlet placed below
   SceneModel m;
   m.name = spec.name;
   m.file = spec.file;
@@ -342,7 +339,9 @@ SceneModel buildSceneModel(const SceneSpec& spec) {
       m.effects.coaxial = true;
   if (m.effects.gravity) m.gravity = spec.gravity;
   if (spec.vessels.present) {
-    const Centerline centerline = buildCenterline(spec.vessels);
+    const Centerline centerline = buildCenterline(spec.vessels, &m.warnings);
+    for (DevicePlacementSpec& d : spec.devices)
+      if (d.at_inlet) d.introducer = inletIntroducer(centerline);
     m.vessels = std::make_shared<const VesselField>(
         centerline, spec.vessels.aneurysms,
         m.effects.vessel_motion ? spec.vessels.motion : std::vector<MotionRegion>{},
@@ -387,6 +386,7 @@ SimData makeData(const SceneModel& model) {
                                       model.initial_inserted_length[i], model.initial_rotation[i]));
   }
   d.commands.assign(n, DriveCommand{});
+  d.notices = model.warnings;  // runners print them with the first step's notices
   d.workspaces = std::vector<DeviceWorkspace>(n);
   locateTips(model, &d);
   return d;

@@ -1,0 +1,172 @@
+#include "endovascular_sim/scene/centerline_vtk.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkGenericDataObjectReader.h>
+#include <vtkIdList.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkXMLFileReadTester.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <filesystem>
+#include <map>
+
+#include "endovascular_sim/core/load_error.h"
+
+namespace evsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string extension(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  for (char& ch : e) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return e;
+}
+
+[[noreturn]] void fail(const std::string& path, const std::string& why) {
+  throw LoadError(path, 0, "vessels.centerline", why);
+}
+
+/// The file's PolyData, read by VTK's reader for its kind (its messages
+/// silenced: every failure is reported here).
+vtkSmartPointer<vtkPolyData> readPolyData(const std::string& path) {
+  if (!fs::is_regular_file(path)) fail(path, "no such file");
+  if (fs::file_size(path) == 0) fail(path, "the file is empty");
+  const bool warnings = vtkObject::GetGlobalWarningDisplay();
+  vtkObject::GlobalWarningDisplayOff();
+  vtkSmartPointer<vtkPolyData> out;
+  std::string why;
+  if (extension(path) == ".vtp") {
+    auto tester = vtkSmartPointer<vtkXMLFileReadTester>::New();
+    tester->SetFileName(path.c_str());
+    if (!tester->TestReadFile()) {
+      why = "not a VTK XML file";
+    } else if (std::string(tester->GetFileDataType()) != "PolyData") {
+      why = std::string("a VTK XML file of type ") + tester->GetFileDataType() +
+            ", not PolyData (a centreline is PolyData with lines)";
+    } else {
+      auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+      reader->SetFileName(path.c_str());
+      reader->Update();
+      if (reader->GetErrorCode() != 0 || !reader->GetOutput())
+        why = "VTK's XML reader could not read it (damaged or truncated data)";
+      else
+        out = reader->GetOutput();
+    }
+  } else {
+    auto reader = vtkSmartPointer<vtkGenericDataObjectReader>::New();
+    reader->SetFileName(path.c_str());
+    if (!reader->OpenVTKFile() || !reader->ReadHeader()) {
+      why = "not a legacy VTK file";
+    } else {
+      reader->CloseVTKFile();
+      reader->Update();
+      if (!reader->IsFilePolyData())
+        why = "a legacy VTK file of another dataset type, not POLYDATA";
+      else if (reader->GetErrorCode() != 0 || !reader->GetPolyDataOutput())
+        why = "VTK's legacy reader could not read it (damaged or truncated data)";
+      else
+        out = reader->GetPolyDataOutput();
+    }
+  }
+  vtkObject::SetGlobalWarningDisplay(warnings);
+  if (!why.empty()) fail(path, why);
+  return out;
+}
+
+/// The first of the branch-id arrays the file has, per cell (-1: none).
+std::vector<int> branchIds(vtkPolyData* data, const std::vector<vtkIdType>& cells) {
+  for (const char* name : {"BranchId", "GroupIds", "CenterlineIds"}) {
+    if (vtkDataArray* a = data->GetCellData()->GetArray(name)) {
+      std::vector<int> ids;
+      for (vtkIdType c : cells) ids.push_back(static_cast<int>(a->GetTuple1(c)));
+      return ids;
+    }
+    if (vtkDataArray* a = data->GetPointData()->GetArray(name)) {
+      std::vector<int> ids;
+      auto points = vtkSmartPointer<vtkIdList>::New();
+      for (vtkIdType c : cells) {
+        data->GetCellPoints(c, points);
+        std::map<int, int> votes;
+        for (vtkIdType k = 0; k < points->GetNumberOfIds(); ++k) {
+          const int v = static_cast<int>(a->GetTuple1(points->GetId(k)));
+          if (v >= 0) ++votes[v];
+        }
+        int id = -1, most = 0;
+        for (auto [v, n] : votes)
+          if (n > most) id = v, most = n;
+        ids.push_back(id);
+      }
+      return ids;
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+bool isVtkCenterlinePath(const std::string& path) {
+  const std::string e = extension(path);
+  return e == ".vtp" || e == ".vtk";
+}
+
+CenterlinePolylines readVtkPolylines(const std::string& path, const VtkCenterlineOptions& o) {
+  const vtkSmartPointer<vtkPolyData> data = readPolyData(path);
+  const vtkIdType n = data->GetNumberOfPoints();
+  if (n == 0) fail(path, "the PolyData has no points");
+  vtkDataArray* radius = data->GetPointData()->GetArray(o.radius_array.c_str());
+  if (!radius || radius->GetNumberOfComponents() != 1) {
+    std::string present;
+    for (int i = 0; i < data->GetPointData()->GetNumberOfArrays(); ++i) {
+      const char* name = data->GetPointData()->GetArrayName(i);
+      present += std::string(present.empty() ? "" : ", ") + (name ? name : "(unnamed)");
+    }
+    fail(path, "no point-data array '" + o.radius_array + "' of one component (the radius; set " +
+                   "vessels.radius_array); its point arrays: " +
+                   (present.empty() ? std::string("none") : present));
+  }
+  CenterlinePolylines out;
+  out.points.resize(n);
+  out.radius.resize(n);
+  for (vtkIdType i = 0; i < n; ++i) {
+    double p[3];
+    data->GetPoint(i, p);
+    out.points[i] = o.unit * Vec3(p[0], p[1], p[2]);
+    out.radius[i] = o.unit * radius->GetTuple1(i);
+  }
+  vtkCellArray* lines = data->GetLines();
+  if (!lines || lines->GetNumberOfCells() == 0)
+    fail(path, "the PolyData has no lines (a centreline is made of polyline cells; it has " +
+                   std::to_string(data->GetNumberOfPolys()) + " polygons, " +
+                   std::to_string(data->GetNumberOfVerts()) + " vertices)");
+  // Line cells come after the vertex cells in the PolyData's cell ids.
+  const vtkIdType first_line = data->GetNumberOfVerts();
+  std::vector<vtkIdType> cells;
+  auto ids = vtkSmartPointer<vtkIdList>::New();
+  lines->InitTraversal();
+  for (vtkIdType c = 0; lines->GetNextCell(ids); ++c) {
+    std::vector<int> line;
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+      line.push_back(static_cast<int>(ids->GetId(k)));
+    out.lines.push_back(line);
+    cells.push_back(first_line + c);
+  }
+  out.branch_id = branchIds(data, cells);
+  return out;
+}
+
+Centerline loadVtkCenterline(const std::string& path, const VtkCenterlineOptions& o,
+                             CenterlineTreeReport* report) {
+  const CenterlinePolylines lines = readVtkPolylines(path, o);
+  try {
+    return buildCenterlineTree(lines, o.tree, report);
+  } catch (const std::invalid_argument& e) {
+    fail(path, e.what());
+  }
+}
+
+}  // namespace evsim

@@ -1,0 +1,410 @@
+// Patient centrelines from VTK files, written here by VTK itself: a known
+// Y (a 60 mm trunk of 6 mm radius splitting into branches of 3 and 2.5 mm)
+// in both layouts found in the wild (one polyline per outlet from the
+// inlet; a merged tree of 2-point lines with BranchId), in mm and cm, in
+// every XML data mode and the legacy format. The tree, its radii and the
+// surface built on it are checked against the known geometry; bad files
+// against the message they must give.
+#include "endovascular_sim/scene/centerline_vtk.h"
+
+#include <gtest/gtest.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkImageData.h>
+#include <vtkIntArray.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataWriter.h>
+#include <vtkSmartPointer.h>
+#include <vtkXMLImageDataWriter.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+
+#include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/geometry/root_finding.h"
+#include "endovascular_sim/geometry/vessel_atlas.h"
+#include "endovascular_sim/geometry/vessel_field.h"
+
+namespace evsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The known Y [mm]: trunk (0,0,0) -> (0,0,60), then to the left outlet
+/// (-20,0,100) and the right outlet (20,0,100).
+const Vec3 kInlet(0, 0, 0), kFork(0, 0, 60), kLeft(-20, 0, 100), kRight(20, 0, 100);
+constexpr double kTrunkR = 6.0, kLeftR = 3.0, kRightR = 2.5;
+
+struct Sampled {
+  std::vector<Vec3> x;  // [mm]
+  std::vector<double> r;
+};
+
+/// a -> b every `step` mm (a included, b included), radius ra -> rb.
+void sample(const Vec3& a, const Vec3& b, double ra, double rb, double step, bool from_a,
+            Sampled* out) {
+  const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / step)));
+  for (int k = from_a ? 0 : 1; k <= n; ++k) {
+    const double t = static_cast<double>(k) / n;
+    out->x.push_back(a + t * (b - a));
+    out->r.push_back(ra + t * (rb - ra));
+  }
+}
+
+struct FileOptions {
+  bool overlapping{true};  // layout (a); else (b) with BranchId
+  double scale{1.0};       // file units per mm (0.1: cm)
+  bool with_radius{true};
+  double radius_noise{0.0};    // relative, uniform
+  bool extra_piece{false};     // a separate 5 mm line
+  std::string mode{"binary"};  // ascii, binary (zlib), appended, raw, legacy
+};
+
+vtkSmartPointer<vtkPolyData> makeY(const FileOptions& f) {
+  std::vector<Sampled> lines;
+  if (f.overlapping) {
+    // Each line from the inlet; the second's trunk jittered by 10 um, as
+    // two VMTK centrelines along one path are.
+    Sampled left, right;
+    sample(kInlet, kFork, kTrunkR, kTrunkR, 0.3, true, &left);
+    sample(kFork, kLeft, kLeftR, kLeftR, 0.3, false, &left);
+    sample(kInlet, kFork, kTrunkR, kTrunkR, 0.3, true, &right);
+    for (Vec3& p : right.x) p.x() += 0.01;
+    sample(kFork, kRight, kRightR, kRightR, 0.3, false, &right);
+    lines = {left, right};
+  } else {
+    Sampled trunk, left, right;
+    sample(kInlet, kFork, kTrunkR, kTrunkR, 0.3, true, &trunk);
+    sample(kFork, kLeft, kLeftR, kLeftR, 0.3, true, &left);
+    sample(kFork, kRight, kRightR, kRightR, 0.3, true, &right);
+    lines = {trunk, left, right};
+  }
+  if (f.extra_piece) {
+    Sampled piece;
+    sample(Vec3(40, 0, 0), Vec3(45, 0, 0), 1.0, 1.0, 0.5, true, &piece);
+    lines.push_back(piece);
+  }
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> noise(-f.radius_noise, f.radius_noise);
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  auto radius = vtkSmartPointer<vtkDoubleArray>::New();
+  radius->SetName("MaximumInscribedSphereRadius");
+  auto other = vtkSmartPointer<vtkDoubleArray>::New();
+  other->SetName("Abscissas");
+  auto branch = vtkSmartPointer<vtkIntArray>::New();
+  branch->SetName("BranchId");
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+  vtkIdType fork_id = -1;
+  for (size_t l = 0; l < lines.size(); ++l) {
+    std::vector<vtkIdType> ids;
+    for (size_t k = 0; k < lines[l].x.size(); ++k) {
+      const Vec3 p = f.scale * lines[l].x[k];
+      // Layout (b): the branches start at the trunk's last point id.
+      if (!f.overlapping && l > 0 && l < 3 && k == 0) {
+        ids.push_back(fork_id);
+        continue;
+      }
+      ids.push_back(points->InsertNextPoint(p.x(), p.y(), p.z()));
+      radius->InsertNextValue(f.scale * lines[l].r[k] * (1.0 + noise(rng)));
+      other->InsertNextValue(static_cast<double>(k));
+    }
+    if (!f.overlapping && l == 0) fork_id = ids.back();
+    if (f.overlapping) {
+      cells->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
+      continue;
+    }
+    for (size_t k = 1; k < ids.size(); ++k) {  // 2-point lines, as SimVascular writes
+      const vtkIdType pair[2] = {ids[k - 1], ids[k]};
+      cells->InsertNextCell(2, pair);
+      branch->InsertNextValue(static_cast<int>(l));
+    }
+  }
+  auto data = vtkSmartPointer<vtkPolyData>::New();
+  data->SetPoints(points);
+  data->SetLines(cells);
+  if (f.with_radius) data->GetPointData()->AddArray(radius);
+  data->GetPointData()->AddArray(other);
+  if (!f.overlapping) data->GetCellData()->AddArray(branch);
+  return data;
+}
+
+std::string tempFile(const std::string& name) {
+  return (fs::temp_directory_path() / ("evsim_vtk_test_" + name)).string();
+}
+
+std::string write(vtkPolyData* data, const std::string& name, const std::string& mode) {
+  if (mode == "legacy") {
+    const std::string path = tempFile(name + ".vtk");
+    auto w = vtkSmartPointer<vtkPolyDataWriter>::New();
+    w->SetFileName(path.c_str());
+    w->SetInputData(data);
+    w->SetFileTypeToBinary();
+    EXPECT_EQ(w->Write(), 1);
+    return path;
+  }
+  const std::string path = tempFile(name + ".vtp");
+  auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
+  w->SetFileName(path.c_str());
+  w->SetInputData(data);
+  if (mode == "ascii") {
+    w->SetDataModeToAscii();
+  } else if (mode == "binary") {
+    w->SetDataModeToBinary();  // base64, zlib-compressed
+    w->SetCompressorTypeToZLib();
+  } else if (mode == "appended") {
+    w->SetDataModeToAppended();  // base64
+    w->SetCompressorTypeToZLib();
+  } else {  // raw appended bytes, uncompressed
+    w->SetDataModeToAppended();
+    w->EncodeAppendedDataOff();
+    w->SetCompressorTypeToNone();
+  }
+  EXPECT_EQ(w->Write(), 1);
+  return path;
+}
+
+Centerline load(const std::string& path, double unit, CenterlineTreeReport* report,
+                const CenterlineTreeOptions& tree = {}) {
+  VtkCenterlineOptions o;
+  o.unit = unit;
+  o.tree = tree;
+  return loadVtkCenterline(path, o, report);
+}
+
+/// The tree's point nearest p [m] and its distance.
+int nearest(const Centerline& c, const Vec3& p, double* d) {
+  int best = -1;
+  *d = 1e9;
+  for (int i = 0; i < c.numPoints(); ++i)
+    if ((c.position[i] - p).norm() < *d) *d = (c.position[i] - p).norm(), best = i;
+  return best;
+}
+
+/// The Y's shape: three vessels, the fork and the outlets where they are,
+/// and the radii of each branch.
+void expectTheY(const Centerline& c, const CenterlineTreeReport& report, const std::string& what) {
+  SCOPED_TRACE(what);
+  ASSERT_EQ(c.vessel_names.size(), 3u);
+  EXPECT_EQ(report.branches, 3);
+  double d;
+  std::vector<int> children(c.numPoints(), 0);
+  for (int i = 0; i < c.numPoints(); ++i)
+    if (c.parent[i] >= 0) ++children[c.parent[i]];
+  ASSERT_EQ(std::count(children.begin(), children.end(), 2), 1) << "one fork";
+  const int fork =
+      static_cast<int>(std::find(children.begin(), children.end(), 2) - children.begin());
+  EXPECT_LT((c.position[fork] - 1e-3 * kFork).norm(), 0.35e-3) << "the fork";
+  for (const auto& [outlet, r] : {std::pair{kLeft, kLeftR}, std::pair{kRight, kRightR}}) {
+    const int o = nearest(c, 1e-3 * outlet, &d);
+    EXPECT_LT(d, 1e-6) << "an outlet";
+    EXPECT_NEAR(c.radius[o], 1e-3 * r, 0.03e-3);
+  }
+  const int inlet = nearest(c, 1e-3 * kInlet, &d);
+  EXPECT_LT(d, 0.02e-3);
+  EXPECT_EQ(c.parent[inlet], -1);
+  EXPECT_NEAR(c.radius[inlet], 1e-3 * kTrunkR, 0.03e-3);
+  EXPECT_LT(c.numPoints(), 20) << "straight branches simplify to a few points";
+  EXPECT_LE(report.max_axis_error, CenterlineTreeOptions{}.tolerance);
+}
+
+TEST(CenterlineVtk, BothLayoutsInEveryDataModeGiveTheY) {
+  for (bool overlapping : {true, false})
+    for (const char* mode : {"ascii", "binary", "appended", "raw", "legacy"}) {
+      FileOptions f;
+      f.overlapping = overlapping;
+      f.mode = mode;
+      const std::string name = std::string(overlapping ? "a_" : "b_") + mode;
+      const std::string path = write(makeY(f), name, mode);
+      CenterlineTreeReport report;
+      const Centerline c = load(path, 1e-3, &report);
+      EXPECT_EQ(report.overlapping, overlapping) << name;
+      expectTheY(c, report, name);
+      fs::remove(path);
+    }
+}
+
+TEST(CenterlineVtk, CentimetresAreScaledAsDeclared) {
+  FileOptions f;
+  f.scale = 0.1;  // SimVascular: cm
+  const std::string path = write(makeY(f), "cm", "binary");
+  CenterlineTreeReport report;
+  expectTheY(load(path, 1e-2, &report), report, "cm");
+  fs::remove(path);
+}
+
+TEST(CenterlineVtk, OutletIndicesAndBranchIdsNameTheVessels) {
+  // Layout (a): a branch ending at an outlet takes its line's index.
+  FileOptions a;
+  const std::string pa = write(makeY(a), "names_a", "binary");
+  CenterlineTreeOptions names;
+  names.names = {{0, "left_branch"}, {1, "right_branch"}};
+  CenterlineTreeReport report;
+  const Centerline ca = load(pa, 1e-3, &report, names);
+  VesselAtlas atlas(ca);
+  EXPECT_EQ(atlas.locate(1e-3 * Vec3(-15, 0, 90)).vessel, atlas.find("left_branch"));
+  EXPECT_EQ(atlas.locate(1e-3 * Vec3(15, 0, 90)).vessel, atlas.find("right_branch"));
+  EXPECT_EQ(atlas.vessels()[atlas.locate(1e-3 * Vec3(0, 0, 30)).vessel].name, "branch_2");
+  // Layout (b): the file's BranchId (trunk 0, left 1, right 2).
+  FileOptions b;
+  b.overlapping = false;
+  const std::string pb = write(makeY(b), "names_b", "binary");
+  names.names = {{0, "trunk"}, {1, "left_branch"}, {2, "right_branch"}};
+  const Centerline cb = load(pb, 1e-3, &report, names);
+  VesselAtlas atlas_b(cb);
+  EXPECT_EQ(atlas_b.locate(1e-3 * Vec3(0, 0, 30)).vessel, atlas_b.find("trunk"));
+  EXPECT_EQ(atlas_b.locate(1e-3 * Vec3(15, 0, 90)).vessel, atlas_b.find("right_branch"));
+  // A name for a branch the tree does not have.
+  names.names = {{7, "nowhere"}};
+  try {
+    load(pb, 1e-3, &report, names);
+    ADD_FAILURE() << "a name for branch 7 was accepted";
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("no branch 7"), std::string::npos) << e.what();
+  }
+  fs::remove(pa);
+  fs::remove(pb);
+}
+
+TEST(CenterlineVtk, NoisyRadiiAreSmoothedAndTheSurfaceKeepsThem) {
+  FileOptions f;
+  f.radius_noise = 0.08;
+  const std::string path = write(makeY(f), "noisy", "binary");
+  CenterlineTreeReport report;
+  const Centerline c = load(path, 1e-3, &report);
+  EXPECT_LT(c.numPoints(), 200);
+  // The lumen of the convolution surface around the axis, away from the
+  // fork and the ends (two radii), against the known radius.
+  const VesselField field(c, {}, {}, {});
+  std::vector<double> errors;
+  struct Leg {
+    Vec3 a, b;
+    double r;
+  };
+  for (const Leg& leg :
+       {Leg{kInlet, kFork, kTrunkR}, Leg{kFork, kLeft, kLeftR}, Leg{kFork, kRight, kRightR}}) {
+    const Vec3 axis = (leg.b - leg.a).normalized();
+    const double len = (leg.b - leg.a).norm();
+    for (double s = 2.0 * kTrunkR; s <= len - 2.0 * leg.r; s += 1.0) {
+      const Vec3 p = 1e-3 * (leg.a + s * axis);
+      for (int k = 0; k < 4; ++k) {
+        const Vec3 out = Eigen::AngleAxisd(k * M_PI / 2.0, axis) * axis.unitOrthogonal();
+        const SurfacePoint w = firstRoot(field, p, p + 3e-3 * leg.r * out, 0.0);
+        ASSERT_TRUE(w.hit);
+        errors.push_back(std::abs((w.point - p).norm() - 1e-3 * leg.r) / (1e-3 * leg.r));
+      }
+    }
+  }
+  std::sort(errors.begin(), errors.end());
+  const double median = errors[errors.size() / 2], worst = errors.back();
+  std::printf(
+      "[ metric   ] lumen radius of the surface against the file's: median %.2f %%, "
+      "worst %.2f %% (%zu rays, radius noise 8 %%)\n",
+      100 * median, 100 * worst, errors.size());
+  EXPECT_LT(median, 0.05);
+  EXPECT_LT(worst, 0.15);
+  fs::remove(path);
+}
+
+TEST(CenterlineVtk, ADisconnectedPieceIsDroppedWithAWarning) {
+  FileOptions f;
+  f.overlapping = false;
+  f.extra_piece = true;
+  const std::string path = write(makeY(f), "pieces", "binary");
+  CenterlineTreeReport report;
+  const Centerline c = load(path, 1e-3, &report);
+  expectTheY(c, report, "pieces");
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find("dropped: 11 points (5 mm)"), std::string::npos)
+      << report.warnings[0];
+  fs::remove(path);
+}
+
+/// The file must be refused with a message holding `expect`.
+void expectRefused(const std::string& path, const std::string& expect, double unit = 1e-3) {
+  CenterlineTreeReport report;
+  try {
+    load(path, unit, &report);
+    ADD_FAILURE() << path << " was accepted";
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find(expect), std::string::npos) << e.what();
+    EXPECT_EQ(e.file(), path);
+  }
+}
+
+TEST(CenterlineVtk, BadFilesAreRefusedSayingWhatIsWrong) {
+  FileOptions f;
+  f.with_radius = false;
+  const std::string no_radius = write(makeY(f), "no_radius", "binary");
+  expectRefused(no_radius, "its point arrays: Abscissas");
+
+  auto broken = [&](const std::string& name, const std::function<void(vtkPolyData*)>& damage) {
+    auto data = makeY(FileOptions{});
+    damage(data);
+    return write(data, name, "binary");
+  };
+  const std::string nan_radius = broken("nan_radius", [](vtkPolyData* d) {
+    d->GetPointData()->GetArray("MaximumInscribedSphereRadius")->SetTuple1(5, NAN);
+  });
+  expectRefused(nan_radius, "radius of point 5");
+  const std::string negative = broken("negative", [](vtkPolyData* d) {
+    d->GetPointData()->GetArray("MaximumInscribedSphereRadius")->SetTuple1(9, -1.0);
+  });
+  expectRefused(negative, "radii must be positive");
+  const std::string nan_point =
+      broken("nan_point", [](vtkPolyData* d) { d->GetPoints()->SetPoint(3, NAN, 0.0, 0.0); });
+  expectRefused(nan_point, "point 3 is not finite");
+  const std::string no_lines =
+      broken("no_lines", [](vtkPolyData* d) { d->SetLines(vtkSmartPointer<vtkCellArray>::New()); });
+  expectRefused(no_lines, "no lines");
+
+  // A loop: a triangle of 2-point lines.
+  auto loop = vtkSmartPointer<vtkPolyData>::New();
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  auto radius = vtkSmartPointer<vtkDoubleArray>::New();
+  radius->SetName("MaximumInscribedSphereRadius");
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+  for (int k = 0; k < 3; ++k) {
+    points->InsertNextPoint(10.0 * std::cos(2 * M_PI * k / 3), 10.0 * std::sin(2 * M_PI * k / 3),
+                            0.0);
+    radius->InsertNextValue(1.0);
+  }
+  for (int k = 0; k < 3; ++k) {
+    const vtkIdType pair[2] = {k, (k + 1) % 3};
+    cells->InsertNextCell(2, pair);
+  }
+  loop->SetPoints(points);
+  loop->SetLines(cells);
+  loop->GetPointData()->AddArray(radius);
+  expectRefused(write(loop, "loop", "binary"), "loop");
+
+  // Another dataset type, an empty file, text that is not VTK.
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(2, 2, 2);
+  const std::string image_path = tempFile("image.vtp");
+  auto iw = vtkSmartPointer<vtkXMLImageDataWriter>::New();
+  iw->SetFileName(image_path.c_str());
+  iw->SetInputData(image);
+  ASSERT_EQ(iw->Write(), 1);
+  expectRefused(image_path, "of type ImageData, not PolyData");
+  const std::string empty = tempFile("empty.vtp");
+  std::ofstream(empty).close();
+  expectRefused(empty, "empty");
+  const std::string text = tempFile("text.vtk");
+  std::ofstream(text) << "id type x y z radius parent\n1 1 0 0 0 1 -1\n";
+  expectRefused(text, "not a legacy VTK file");
+  for (const std::string& p : {no_radius, nan_radius, negative, nan_point, no_lines, image_path,
+                               empty, text, tempFile("loop.vtp")})
+    fs::remove(p);
+}
+
+}  // namespace
+}  // namespace evsim
