@@ -17,7 +17,7 @@ import yaml
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = ['carotid', 'carotid_selective', 'carotid_catheter', 'network', 'aneurysm',
-          'aneurysm_coiling']
+          'aneurysm_coiling', 'patient_example']
 
 
 def duration_of(scene):

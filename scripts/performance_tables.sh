@@ -12,10 +12,12 @@ mkdir -p "$out"
 export PATH="/usr/bin:$PATH"
 evsim=$repo/build/ws/devel/lib/endovascular_sim/evsim
 for scene in carotid carotid_selective carotid_catheter network aneurysm aneurysm_coiling \
-             dead_end tortuous aneurysm_packed large_step; do
+             patient_example dead_end tortuous aneurysm_packed large_step; do
   echo "== evsim bench $scene"
   "$evsim" bench "$scene" | tee "$out/bench_$scene.txt" || true  # a failed step is reported
 done
+echo "== evsim bench carotid --no-sleep"
+"$evsim" bench carotid --no-sleep | tee "$out/bench_carotid_no_sleep.txt"
 echo "== evsim bench aneurysm_packed --warmup 11000 --steps 3000 --min-rows 300"
 "$evsim" bench aneurysm_packed --warmup 11000 --steps 3000 --min-rows 300 \
   | tee "$out/bench_aneurysm_packed_300.txt"
