@@ -7,7 +7,7 @@ packages=(
   # toolchain and core library
   build-essential cmake pkg-config
   libeigen3-dev libsuitesparse-dev libyaml-cpp-dev
-  liburdfdom-dev liburdfdom-headers-dev libtinyxml-dev
+  liburdfdom-dev liburdfdom-headers-dev libconsole-bridge-dev libtinyxml-dev
   libgtest-dev googletest libgmock-dev libbenchmark-dev libcli11-dev
   # patient centrelines and ParaView output (VTK), and the example's generator
   libvtk9-dev python3-vtk9

@@ -76,6 +76,14 @@ struct MeshOptions {
 /// `evsim mesh`: the vessel surface as a triangle mesh.
 int meshScene(const MeshOptions& options);
 
+struct CheckOptions {
+  std::vector<std::string> files;
+  std::string units;  // of .vtp/.vtk (required) and .swc without a header (default mm)
+  std::string scene;  // the scene a state file is checked against
+};
+/// `evsim check`: each file validated as its loader does; exit 2 if any is bad.
+int checkFiles(const CheckOptions& options);
+
 /// `evsim vessels`: a scene's vessel tree (branch ids for a VTK
 /// centreline's names), how closely its surface keeps the radii, and what a
 /// field evaluation costs.

@@ -130,6 +130,15 @@ int dispatch(int argc, char** argv) {
   addMesh(app, &mesh);
   addNavigate(app, &navigate);
   app.add_subcommand("list", "the shipped scenes");
+  CheckOptions check;
+  CLI::App* check_command = app.add_subcommand(
+      "check", "validate scene, device, centreline and state files without running them");
+  check_command
+      ->add_option("files", check.files, "the files (.yaml, .urdf, .swc, .vtp, .vtk, state)")
+      ->required();
+  check_command->add_option("--units", check.units,
+                            "units of a .vtp/.vtk centreline (m, cm, mm, um; required for them)");
+  check_command->add_option("--scene", check.scene, "the scene a state file belongs to");
   std::string vessels_scene;
   app.add_subcommand("vessels",
                      "a scene's vessel tree, its branch ids, the surface's fidelity to the radii")
@@ -139,7 +148,7 @@ int dispatch(int argc, char** argv) {
       app.get_subcommands([&](const CLI::App* c) { return argc > 1 && c->get_name() == argv[1]; });
   if (argc > 1 && argv[1][0] != '-' && known.empty()) {
     std::cerr << "evsim: unknown command '" << argv[1]
-              << "' (run, bench, navigate, mesh, vessels, list; evsim --help)\n";
+              << "' (run, bench, navigate, mesh, vessels, check, list; evsim --help)\n";
     return kExitBadInput;
   }
   try {
@@ -152,6 +161,7 @@ int dispatch(int argc, char** argv) {
   if (app.got_subcommand("mesh")) return meshScene(mesh);
   if (app.got_subcommand("navigate")) return navigateScene(navigate);
   if (app.got_subcommand("vessels")) return vesselsCommand(vessels_scene);
+  if (app.got_subcommand("check")) return checkFiles(check);
   if (app.got_subcommand("list")) {
     for (const auto& s : shippedScenes()) std::cout << s << "\n";
     return kExitOk;

@@ -538,6 +538,26 @@ TEST_F(Loader, InletAccessNeedsVesselsAndTakesNoDirection) {
               "follows the centreline");
 }
 
+TEST_F(Loader, AWireAimedAcrossItsVesselAndANetworkThatCannotGrowAreWarned) {
+  // The carotid tree's descending aorta runs along z: entering along x, the
+  // wire meets the wall 12 mm ahead.
+  std::string text = carotidScene("[0.025, -0.020, -0.130]");
+  const SceneModel across = buildSceneModel(loadSceneFile(write("across.yaml", text)));
+  ASSERT_EQ(across.warnings.size(), 1u);
+  EXPECT_NE(across.warnings[0].find("devices[0] (wire) enters at 90 degrees"), std::string::npos)
+      << across.warnings[0];
+  text.replace(text.find("insertion_direction: [1, 0, 0]"), 30, "insertion_direction: [0, 0, 1]");
+  EXPECT_TRUE(buildSceneModel(loadSceneFile(write("along.yaml", text))).warnings.empty());
+  // Every leaf of the tree is narrower than min_radius: no vessel grows.
+  const std::string swc = configDirectory() + "/vessels/carotid.swc";
+  text.replace(
+      text.find("vessels: {centerline: " + swc + "}"), swc.size() + 23,
+      "vessels: {centerline: " + swc + ", network: {seed: 1, vessels: 10, min_radius: 0.05}}");
+  const SceneModel none = buildSceneModel(loadSceneFile(write("network.yaml", text)));
+  ASSERT_EQ(none.warnings.size(), 1u);
+  EXPECT_NE(none.warnings[0].find("grew 0 of 10 vessels"), std::string::npos) << none.warnings[0];
+}
+
 TEST_F(Loader, SleepOptionsAreChecked) {
   const LoadError word = sceneError("devices:", "sleep: maybe\ndevices:");
   expectNames(word, "scene.yaml", 5, "sleep", "true, false or a map");

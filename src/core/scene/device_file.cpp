@@ -1,5 +1,6 @@
 #include "endovascular_sim/scene/device_file.h"
 
+#include <console_bridge/console.h>
 #include <tinyxml.h>
 #include <urdf_model/model.h>
 #include <urdf_parser/urdf_parser.h>
@@ -147,6 +148,19 @@ DeviceSectionSpec readSection(const std::string& path, const TiXmlElement* robot
 
 }  // namespace
 
+namespace {
+
+/// Collects urdfdom's messages (warnings and errors).
+struct UrdfMessages : console_bridge::OutputHandler {
+  std::string text;
+  void log(const std::string& message, console_bridge::LogLevel level, const char*, int) override {
+    if (level < console_bridge::CONSOLE_BRIDGE_LOG_WARN) return;
+    text += (text.empty() ? "" : "; ") + message;
+  }
+};
+
+}  // namespace
+
 DeviceSpec loadDeviceFile(const std::string& path) {
   const std::string text = readFile(path);
   TiXmlDocument doc;
@@ -157,9 +171,16 @@ DeviceSpec loadDeviceFile(const std::string& path) {
   if (!robot || std::string(robot->Value()) != "robot")
     throw LoadError(path, robot ? robot->Row() : 0, "robot", "the root element must be <robot>");
 
+  // urdfdom reports through console_bridge: its messages become the error's
+  // text instead of lines on stderr.
+  UrdfMessages messages;
+  console_bridge::useOutputHandler(&messages);
   const urdf::ModelInterfaceSharedPtr urdf_model = urdf::parseURDF(text);
+  console_bridge::restorePreviousOutputHandler();
   if (!urdf_model)
-    throw LoadError(path, robot->Row(), "robot", "urdfdom rejected the URDF (see its message)");
+    throw LoadError(path, robot->Row(), "robot",
+                    "urdfdom rejected the URDF: " +
+                        (messages.text.empty() ? std::string("(no reason given)") : messages.text));
   DeviceSpec spec;
   spec.name = urdf_model->getName();
 

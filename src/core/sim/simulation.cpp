@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <sstream>
 
 #include "endovascular_sim/contact/coaxial.h"
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/geometry/root_finding.h"
 
 namespace evsim {
 namespace {
@@ -249,6 +251,42 @@ void checkAccessPoints(const SceneSpec& spec, const VesselField* vessels) {
   }
 }
 
+/// A device whose introducer points across its vessel (more than 60 degrees
+/// off the nearest centreline segment, and the wall ahead within 1.5 lumen
+/// radii) meets the wall at once: warned. (A coil aimed into an aneurysm's
+/// dome from its neck has millimetres ahead: not warned.)
+void warnAcrossTheVessel(const SceneSpec& spec, const Centerline& c, const VesselField& field,
+                         std::vector<std::string>* warnings) {
+  for (size_t i = 0; i < spec.devices.size(); ++i) {
+    const DevicePlacementSpec& d = spec.devices[i];
+    if (d.outer >= 0) continue;  // enters through its outer device
+    const Vec3& p = d.introducer.access_point;
+    double best = std::numeric_limits<double>::infinity(), radius = 0.0;
+    Vec3 axis = Vec3::Zero();
+    for (int k = 0; k < c.numPoints(); ++k) {
+      const int j = c.parent[k];
+      if (j < 0) continue;
+      const Vec3 ab = c.position[k] - c.position[j];
+      if (ab.squaredNorm() <= 0.0) continue;
+      const double t = std::clamp((p - c.position[j]).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      const double dist = (p - (c.position[j] + t * ab)).norm();
+      if (dist < best)
+        best = dist, axis = ab.normalized(), radius = (1 - t) * c.radius[j] + t * c.radius[k];
+    }
+    if (axis.isZero()) continue;
+    const Vec3 dir = d.introducer.frame.col(0);
+    const double angle = std::acos(std::min(1.0, std::abs(dir.dot(axis)))) * 180.0 / M_PI;
+    if (angle <= 60.0) continue;
+    const double device_radius = d.device.sections.front().section.outer_radius;
+    if (!firstRoot(field, p, p + 1.5 * radius * dir, device_radius).hit) continue;
+    std::ostringstream w;
+    w << spec.file << ": devices[" << i << "] (" << d.device.name << ") enters at "
+      << std::lround(angle) << " degrees to the axis of its vessel and meets the wall at once: "
+      << "point insertion_direction along the vessel";
+    warnings->push_back(w.str());
+  }
+}
+
 /// The scene's targets against its vessels and devices: an unknown vessel,
 /// one narrower than the device that must reach it, or one not connected to
 /// the device's access point is refused with what exists.
@@ -346,6 +384,7 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
         centerline, spec.vessels.aneurysms,
         m.effects.vessel_motion ? spec.vessels.motion : std::vector<MotionRegion>{},
         spec.vessels.field);
+    warnAcrossTheVessel(spec, centerline, *m.vessels, &m.warnings);
     m.surface = m.vessels;
     m.atlas = std::make_shared<const VesselAtlas>(centerline);
   }
