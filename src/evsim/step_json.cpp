@@ -37,6 +37,12 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
       << "," << num(tip.y()) << "," << num(tip.z()) << "],\"inserted_m\":" << num(d.inserted_length)
       << ",\"rotation_rad\":" << num(d.rotation_angle)
       << ",\"kinetic_energy_J\":" << num(kineticEnergy(model.devices[i], d));
+    if (i < data.drives.size()) {
+      const Vec3& f = data.tip_forces[i];
+      o << ",\"drive_force_N\":" << num(data.drives[i].axial_force)
+        << ",\"drive_torque_Nm\":" << num(data.drives[i].axial_torque) << ",\"tip_force_N\":["
+        << num(f.x()) << "," << num(f.y()) << "," << num(f.z()) << "]";
+    }
     if (model.atlas && i < data.tips.size()) {
       const VesselLocation& where = data.tips[i];
       o << ",\"tip_vessel\":\"" << model.atlas->vessels()[where.vessel].name

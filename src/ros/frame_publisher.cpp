@@ -2,6 +2,7 @@
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/TransformStamped.h>
+#include <geometry_msgs/WrenchStamped.h>
 #include <rosgraph_msgs/Clock.h>
 
 #include <boost/make_shared.hpp>
@@ -64,8 +65,11 @@ void FramePublisher::setScene(const SceneModel& model, std::shared_ptr<const Sur
   restartClock();
   path_pubs_.clear();
   detached_path_pubs_.clear();
+  wrench_pubs_.clear();
   for (const DeviceModel& d : model.devices) {
     path_pubs_.push_back(nh_.advertise<nav_msgs::Path>("devices/" + d.name + "/path", 1));
+    wrench_pubs_.push_back(
+        nh_.advertise<geometry_msgs::WrenchStamped>("devices/" + d.name + "/drive_wrench", 10));
     // A device that can detach (a coil on its pusher): the detached part's
     // own path, empty until the detach.
     detached_path_pubs_.push_back(
@@ -107,6 +111,17 @@ void FramePublisher::publish(const FrameSnapshot& f, const LoopTiming& timing, i
     path_pubs_[i].publish(toPathMsg(f.devices[i], header));
     if (detached_path_pubs_[i])
       detached_path_pubs_[i].publish(toDetachedPathMsg(f.devices[i], header));
+    if (i < f.drives.size()) {
+      geometry_msgs::WrenchStamped w;
+      w.header = header;
+      w.wrench.force.x = f.drives[i].force.x();
+      w.wrench.force.y = f.drives[i].force.y();
+      w.wrench.force.z = f.drives[i].force.z();
+      w.wrench.torque.x = f.drives[i].moment.x();
+      w.wrench.torque.y = f.drives[i].moment.y();
+      w.wrench.torque.z = f.drives[i].moment.z();
+      wrench_pubs_[i].publish(w);
+    }
   }
   if (markers_pub_.getNumSubscribers() > 0) markers_pub_.publish(sceneMarkers(f, style_, header));
   publishTransforms(f, header);

@@ -106,6 +106,13 @@ endovascular_sim::DeviceStatusArray toDeviceStatusMsg(const FrameSnapshot& f, in
     s.tip = toPose(d.position.back(), d.rotation.back());
     s.released = d.released;
     s.driven = static_cast<int>(i) == driven;
+    if (i < f.drives.size()) {
+      s.drive_force = f.drives[i].axial_force;
+      s.drive_torque = f.drives[i].axial_torque;
+      s.tip_force.x = f.tip_forces[i].x();
+      s.tip_force.y = f.tip_forces[i].y();
+      s.tip_force.z = f.tip_forces[i].z();
+    }
     if (f.model->atlas && i < f.tips.size() && f.tips[i].vessel >= 0) {
       s.tip_vessel = f.model->atlas->vessels()[f.tips[i].vessel].name;
       s.tip_depth = f.tips[i].depth;

@@ -184,6 +184,8 @@ void SimulationLoop::shareState() {
   f.stats = data_.stats;
   f.tips = data_.tips;
   f.targets = data_.targets;
+  f.drives = data_.drives;
+  f.tip_forces = data_.tip_forces;
   std::lock_guard<std::mutex> status(status_mutex_);
   latest_ = std::move(f);
 }

@@ -261,6 +261,14 @@ class NavigationNodeTest(unittest.TestCase):
         path = rospy.wait_for_message('devices/coil/path', Path, timeout=10)
         self.assertGreater(len(path.poses), 10)
 
+    def test_the_drive_wrench_is_published_per_device(self):
+        from geometry_msgs.msg import WrenchStamped
+        w = rospy.wait_for_message('devices/guidewire/drive_wrench', WrenchStamped, timeout=10)
+        self.assertTrue(w.header.frame_id)
+        for v in (w.wrench.force.x, w.wrench.force.y, w.wrench.force.z, w.wrench.torque.x):
+            self.assertTrue(math.isfinite(v))
+        self.assertTrue(math.isfinite(self.device().drive_force))
+
     def test_a_patient_centreline_loads_like_any_scene(self):
         # patient_example: a VTK centreline (VMTK layout), its branches named
         res = self.load_scene('patient_example')

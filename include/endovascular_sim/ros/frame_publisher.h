@@ -67,6 +67,7 @@ class FramePublisher {
       diagnostics_pub_, clock_pub_;
   ros::Time last_clock_;  // the last stamp sent
   std::vector<ros::Publisher> path_pubs_;
+  std::vector<ros::Publisher> wrench_pubs_;         // devices/NAME/drive_wrench
   std::vector<ros::Publisher> detached_path_pubs_;  // empty publisher: the device cannot detach
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   std::shared_ptr<const SurfaceMesh> mesh_;

@@ -19,6 +19,8 @@ struct FrameSnapshot {
   StepStats stats;
   std::vector<VesselLocation> tips;     // per device: the named vessel its tip is in
   std::vector<TargetProgress> targets;  // per scene target
+  std::vector<DriveWrench> drives;      // per device: what its drive applies (last step)
+  std::vector<Vec3> tip_forces;         // per device: contact force on its tip [N]
   MotionSnapshot motion;                // of the vessels at `time` (empty when they do not move)
 };
 

@@ -19,6 +19,7 @@
 #include "endovascular_sim/contact/contact_solver.h"
 #include "endovascular_sim/mechanics/device_model.h"
 #include "endovascular_sim/mechanics/device_state.h"
+#include "endovascular_sim/mechanics/drive_wrench.h"
 #include "endovascular_sim/mechanics/implicit_euler.h"
 #include "endovascular_sim/mechanics/introducer.h"
 #include "endovascular_sim/scene/scene_file.h"
@@ -113,6 +114,8 @@ struct SimData {
   StepStats stats;
   EffectCounters effect_calls;
   std::vector<VesselLocation> tips;     // per device: where its distal tip is (with vessels)
+  std::vector<DriveWrench> drives;      // per device: what its drive applies (drive_wrench.h)
+  std::vector<Vec3> tip_forces;         // per device: contact force on its last kTipLength [N]
   std::vector<TargetProgress> targets;  // per scene target
   int resting_steps{0};                 // consecutive steps in which nothing moved (SleepOptions)
   bool asleep{false};                   // steps only advance the clock until wake()
@@ -154,6 +157,13 @@ std::string setCommand(const SceneModel& model, SimData* data, const std::string
 /// Where a point [m] is among the scene's named vessels at the data's time
 /// (moving vessels: the point is taken back to the vessels' rest position).
 VesselLocation locateInVessels(const SceneModel& model, const SimData& data, const Vec3& p);
+
+/// The distal length whose contact forces make a device's tip force [m].
+constexpr double kTipLength = 5e-3;
+
+/// Recomputes data->drives and data->tip_forces from the state and the
+/// contacts (step() does it after every step).
+void measureForces(const SceneModel& model, SimData* data);
 
 /// Recomputes data->tips and the targets' progress at data->time (step()
 /// does it after every step; call it after changing the state by hand).

@@ -347,6 +347,24 @@ void locateTips(const SceneModel& model, SimData* data) {
     data->notices.push_back(std::move(notice));
 }
 
+void measureForces(const SceneModel& model, SimData* data) {
+  const size_t n = model.devices.size();
+  data->drives.resize(n);
+  data->tip_forces.assign(n, Vec3::Zero());
+  for (size_t i = 0; i < n; ++i)
+    data->drives[i] = driveWrench(model.devices[i], model.introducers[i], data->devices[i]);
+  auto atTip = [&](int device, const SamplePoint& s) {
+    const DeviceModel& d = model.devices[device];
+    return materialCoordinate(d, s) >= d.length - kTipLength;
+  };
+  for (const Contact& c : data->contacts) {
+    const Vec3 f = c.force * c.normal + c.friction;  // on c.device's point
+    if (atTip(c.device, model.samples[c.device][c.sample])) data->tip_forces[c.device] += f;
+    if (c.other_device >= 0 && !c.lumen && atTip(c.other_device, c.other))
+      data->tip_forces[c.other_device] -= f;
+  }
+}
+
 VesselLocation locateInVessels(const SceneModel& model, const SimData& data, const Vec3& p) {
   if (!model.atlas) return {};
   if (!model.effects.vessel_motion || !model.vessels || !model.vessels->moves())
@@ -428,6 +446,7 @@ SimData makeData(const SceneModel& model) {
   d.notices = model.warnings;  // runners print them with the first step's notices
   d.workspaces = std::vector<DeviceWorkspace>(n);
   locateTips(model, &d);
+  measureForces(model, &d);
   return d;
 }
 
@@ -517,6 +536,7 @@ StepStatus step(const SceneModel& model, SimData* data) {
     ++data->step;
     noteDriveLimits(model, before, data);
     locateTips(model, data);
+    measureForces(model, data);
     noteRest(model, before, data);
   } else {
     data->resting_steps = 0;

@@ -238,6 +238,7 @@ void loadState(const SceneModel& model, const std::string& path, SimData* data) 
   data->asleep = next.asleep;
   data->targets.clear();  // progress is not saved: it restarts at the loaded state
   locateTips(model, data);
+  measureForces(model, data);
 }
 
 }  // namespace evsim

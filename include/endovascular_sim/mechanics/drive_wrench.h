@@ -1,0 +1,31 @@
+// What a hand or a robot feels at the access point: the force and torque
+// the drive applies to impose the commanded insertion and rotation.
+//
+// The drive holds the nodes still in the sheath (introducer.h) on their
+// prescribed poses. The elements among them carry no net load to the drive
+// (each element's nodal forces balance), so the drive's wrench is the one
+// that balances the first element leaving the sheath at the last held node:
+// F = dE/dx_k, M = dE/dtheta_k of that element (elastic forces; the held
+// part's inertia and the element's Rayleigh damping are left out, small at
+// steady insertion). No friction in the introducer is modelled.
+#pragma once
+
+#include "endovascular_sim/mechanics/device_model.h"
+#include "endovascular_sim/mechanics/device_state.h"
+#include "endovascular_sim/mechanics/introducer.h"
+
+namespace evsim {
+
+struct DriveWrench {
+  Vec3 force{Vec3::Zero()};   // [N] on the device, world
+  Vec3 moment{Vec3::Zero()};  // [N m] on the device at the last held node, world
+  double axial_force{0.0};    // [N] along the insertion axis: > 0 pushing in (resisted)
+  double axial_torque{0.0};   // [N m] about the insertion axis, in the rotation's sense
+};
+
+/// The drive's wrench in `state` (zero for a released device or one with
+/// every node held or none).
+DriveWrench driveWrench(const DeviceModel& model, const Introducer& introducer,
+                        const DeviceState& state);
+
+}  // namespace evsim

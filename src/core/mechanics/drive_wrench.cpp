@@ -1,0 +1,27 @@
+#include "endovascular_sim/mechanics/drive_wrench.h"
+
+#include <algorithm>
+
+#include "endovascular_sim/mechanics/beam_element.h"
+
+namespace evsim {
+
+DriveWrench driveWrench(const DeviceModel& model, const Introducer& introducer,
+                        const DeviceState& state) {
+  DriveWrench w;
+  if (state.released) return w;
+  int k = lastHeldNode(model, state.inserted_length);
+  if (state.cut_element >= 0) k = std::min(k, state.cut_element);    // as computeFreeMotion
+  if (k + 1 >= model.num_nodes || k == state.cut_element) return w;  // the cut carries nothing
+  BeamElementEval e;
+  evaluateBeamElement(model.elements[k], state.position[k], state.rotation[k].toRotationMatrix(),
+                      state.position[k + 1], state.rotation[k + 1].toRotationMatrix(), false, &e);
+  w.force = e.gradient.segment<3>(0);
+  w.moment = e.gradient.segment<3>(3);
+  const Vec3 axis = introducer.frame.col(0);
+  w.axial_force = w.force.dot(axis);
+  w.axial_torque = w.moment.dot(axis);
+  return w;
+}
+
+}  // namespace evsim

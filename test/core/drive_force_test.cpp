@@ -1,0 +1,79 @@
+// What the drive feels (mechanics/drive_wrench.h), against the statics of
+// the free part of the device: a straight wire pushed head-on into the
+// closed end of a tube and held there, at rest and without gravity, is in
+// equilibrium between the drive and the contacts, so the drive's axial force
+// equals the contacts' axial reaction; a wire turning freely and a wire
+// pushed through free space at constant speed need no force.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "endovascular_sim/sim/simulation.h"
+#include "test_helpers.h"
+
+namespace evsim {
+namespace {
+
+/// dead_end's closed 5 mm tube with a straight 0.5 mm nitinol wire, no gravity.
+SceneSpec headOn() {
+  SceneSpec spec = loadSceneFile(resolveScenePath("dead_end"));
+  DeviceSpec wire = straightDeviceSpec("wire", test::wireSection(60e9, 0.25e-3), 0.2, 100);
+  wire.rayleigh_mass = 20.0;  // settles within a few hundred steps
+  spec.devices[0].device = wire;
+  spec.devices[0].inserted_length = 0.05;
+  spec.effects = {"subdivision"};
+  spec.script.clear();
+  spec.sleep.enabled = false;
+  return spec;
+}
+
+TEST(DriveForce, AWirePushedHeadOnFeelsTheEndsReaction) {
+  const SceneModel model = buildSceneModel(headOn());
+  SimData data = makeData(model);
+  const Vec3 axis = model.introducers[0].frame.col(0);
+  // Push at 10 mm/s until the tip presses on the closed end with 0.05 N,
+  // then hold and let the wire settle.
+  ASSERT_EQ(setCommand(model, &data, "wire", {DriveCommand::Mode::kVelocity, 0.01, 0.0}), "");
+  double reaction = 0.0;
+  for (int k = 0; k < 3000 && reaction < 0.05; ++k) {
+    ASSERT_EQ(step(model, &data), StepStatus::kOk) << data.last_error;
+    reaction = -data.tip_forces[0].dot(axis);
+  }
+  ASSERT_GT(reaction, 0.05) << "the tip never reached the end";
+  ASSERT_EQ(setCommand(model, &data, "wire", {DriveCommand::Mode::kVelocity, 0.0, 0.0}), "");
+  for (int k = 0; k < 1500; ++k) ASSERT_EQ(step(model, &data), StepStatus::kOk) << data.last_error;
+  double contacts = 0.0;  // the walls' axial reaction on the wire
+  for (const Contact& c : data.contacts) contacts += (c.force * c.normal).dot(axis);
+  const double drive = data.drives[0].axial_force;
+  std::printf("[ metric   ] head-on: drive %.6f N, contacts' axial reaction %.6f N\n", drive,
+              -contacts);
+  EXPECT_GT(drive, 0.01);
+  EXPECT_NEAR(drive, -contacts, 0.01 * drive);
+  EXPECT_NEAR(data.drives[0].axial_torque, 0.0, 1e-9);
+}
+
+TEST(DriveForce, AFreeWireNeedsNoForceToMoveSteadilyOrTurn) {
+  SceneSpec spec = loadSceneFile(resolveScenePath("free_insertion"));
+  spec.effects = {};
+  spec.devices[0].device.rayleigh_mass = 20.0;
+  spec.script.clear();
+  const SceneModel model = buildSceneModel(spec);
+  SimData data = makeData(model);
+  ASSERT_EQ(
+      setCommand(model, &data, model.devices[0].name, {DriveCommand::Mode::kVelocity, 0.01, 1.0}),
+      "");
+  double worst_force = 0.0, worst_torque = 0.0;
+  for (int k = 0; k < 2000; ++k) {
+    ASSERT_EQ(step(model, &data), StepStatus::kOk) << data.last_error;
+    if (k < 1000) continue;  // the start's acceleration is over
+    worst_force = std::max(worst_force, std::abs(data.drives[0].axial_force));
+    worst_torque = std::max(worst_torque, std::abs(data.drives[0].axial_torque));
+  }
+  std::printf("[ metric   ] free wire: |drive force| <= %.3g N, |torque| <= %.3g N m\n",
+              worst_force, worst_torque);
+  EXPECT_LT(worst_force, 1e-4);
+  EXPECT_LT(worst_torque, 1e-6);
+}
+
+}  // namespace
+}  // namespace evsim
