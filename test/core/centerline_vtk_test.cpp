@@ -328,6 +328,89 @@ TEST(CenterlineVtk, ADisconnectedPieceIsDroppedWithAWarning) {
   fs::remove(path);
 }
 
+TEST(CenterlineVtk, TheSimplifiedWallStaysWithinTheTolerances) {
+  // The noisy Y simplified with the default tolerances against the same file
+  // kept whole (tolerances far below its noise): the lumen radius along the
+  // same rays moves by less than tolerance + radius_tolerance * r.
+  FileOptions f;
+  f.radius_noise = 0.08;
+  const std::string path = write(makeY(f), "simplified", "binary");
+  CenterlineTreeReport report;
+  CenterlineTreeOptions whole;
+  whole.tolerance = 1e-7;
+  whole.radius_tolerance = 1e-4;
+  const Centerline fine = load(path, 1e-3, &report, whole);
+  const Centerline coarse = load(path, 1e-3, &report);
+  ASSERT_GT(fine.numPoints(), 5 * coarse.numPoints());
+  const VesselField a(fine, {}, {}, {}), b(coarse, {}, {}, {});
+  const CenterlineTreeOptions o;
+  double worst = 0.0;  // [relative to the bound]
+  for (int i = 0; i < fine.numPoints(); i += 7) {
+    const int j = fine.parent[i];
+    if (j < 0) continue;
+    const Vec3 p = 0.5 * (fine.position[i] + fine.position[j]);
+    const double r = fine.radius[i];
+    if ((p - 1e-3 * kFork).norm() < 3.0 * 1e-3 * kTrunkR || (p - 1e-3 * kInlet).norm() < 2.0 * r ||
+        (p - 1e-3 * kLeft).norm() < 2.0 * r || (p - 1e-3 * kRight).norm() < 2.0 * r)
+      continue;
+    const Vec3 u = (fine.position[i] - fine.position[j]).normalized();
+    for (int k = 0; k < 4; ++k) {
+      const Vec3 out = Eigen::AngleAxisd(k * M_PI / 2.0, u) * u.unitOrthogonal();
+      const SurfacePoint wa = firstRoot(a, p, p + 3.0 * r * out, 0.0);
+      const SurfacePoint wb = firstRoot(b, p, p + 3.0 * r * out, 0.0);
+      ASSERT_TRUE(wa.hit && wb.hit);
+      const double bound = o.tolerance + o.radius_tolerance * r;
+      worst = std::max(worst, (wa.point - wb.point).norm() / bound);
+    }
+  }
+  std::printf("[ metric   ] simplification: %d -> %d points; the wall moves by at most %.2f of "
+              "tolerance + radius_tolerance * r\n",
+              fine.numPoints(), coarse.numPoints(), worst);
+  EXPECT_LT(worst, 1.0);
+  fs::remove(path);
+}
+
+TEST(CenterlineVtk, BranchesWhoseLumensOverlapAreWarned) {
+  // A merged tree (layout b) whose two branches leave the fork 2 mm apart and
+  // run parallel: radii of 3 mm reach the other branch's centreline.
+  Sampled trunk, left, right;
+  sample(kInlet, kFork, kTrunkR, kTrunkR, 0.3, true, &trunk);
+  sample(kFork, kFork + Vec3(-1, 0, 5), 3.0, 3.0, 0.3, true, &left);
+  sample(kFork + Vec3(-1, 0, 5), Vec3(-1, 0, 100), 3.0, 3.0, 0.3, false, &left);
+  sample(kFork, kFork + Vec3(1, 0, 5), 3.0, 3.0, 0.3, true, &right);
+  sample(kFork + Vec3(1, 0, 5), Vec3(1, 0, 100), 3.0, 3.0, 0.3, false, &right);
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  auto radius = vtkSmartPointer<vtkDoubleArray>::New();
+  radius->SetName("MaximumInscribedSphereRadius");
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+  vtkIdType fork = -1;
+  for (const Sampled* line : {&trunk, &left, &right}) {
+    std::vector<vtkIdType> ids;
+    for (size_t k = 0; k < line->x.size(); ++k) {
+      if (line != &trunk && k == 0) {
+        ids.push_back(fork);
+        continue;
+      }
+      ids.push_back(points->InsertNextPoint(line->x[k].x(), line->x[k].y(), line->x[k].z()));
+      radius->InsertNextValue(line->r[k]);
+    }
+    if (line == &trunk) fork = ids.back();
+    cells->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
+  }
+  auto data = vtkSmartPointer<vtkPolyData>::New();
+  data->SetPoints(points);
+  data->SetLines(cells);
+  data->GetPointData()->AddArray(radius);
+  const std::string path = write(data, "crowded", "binary");
+  CenterlineTreeReport report;
+  load(path, 1e-3, &report);
+  bool warned = false;
+  for (const std::string& w : report.warnings)
+    warned = warned || w.find("their lumens merge") != std::string::npos;
+  EXPECT_TRUE(warned) << (report.warnings.empty() ? "no warning" : report.warnings[0]);
+  fs::remove(path);
+}
+
 /// The file must be refused with a message holding `expect`.
 void expectRefused(const std::string& path, const std::string& expect, double unit = 1e-3) {
   CenterlineTreeReport report;

@@ -363,19 +363,37 @@ void simplify(const Graph& g, const std::vector<int>& v, const std::vector<doubl
   simplify(g, v, r, o, split, b, keep, report);
 }
 
-/// Warns where a radius reaches the centreline of a branch that is neither
-/// the point's own nor a neighbour: their lumens merge in the surface.
+/// Warns where a radius reaches the centreline of another branch: their
+/// lumens merge in the surface. Two branches that meet at a junction J (a
+/// parent and its child, or two siblings) are compared only away from it
+/// (both points more than two radii of J from J), where a fork's lumens
+/// part.
 void warnCrowdedBranches(const Centerline& c, const std::vector<int>& branch_of,
                          const std::vector<Branch>& branches, CenterlineTreeReport* report) {
+  const int nb = static_cast<int>(branches.size());
+  std::vector<int> junction(nb, -1);  // the tree point each branch leaves from
+  for (int i = 0; i < c.numPoints(); ++i) {
+    const int p = c.parent[i];
+    if (p >= 0 && branch_of[p] != branch_of[i] && junction[branch_of[i]] < 0)
+      junction[branch_of[i]] = p;
+  }
+  auto shared = [&](int a, int b) {  // the junction a and b meet at, or -1
+    if (junction[a] >= 0 && junction[a] == junction[b]) return junction[a];
+    if (junction[b] >= 0 && branch_of[junction[b]] == a) return junction[b];
+    if (junction[a] >= 0 && branch_of[junction[a]] == b) return junction[a];
+    return -1;
+  };
   int warned = 0;
   for (int i = 0; i < c.numPoints() && warned < 3; ++i)
     for (int j = 0; j < c.numPoints(); ++j) {
       const int a = branch_of[i], b = branch_of[j];
-      if (a == b || branches[a].parent == b || branches[b].parent == a ||
-          (branches[a].parent >= 0 && branches[a].parent == branches[b].parent))
-        continue;
+      if (a == b) continue;
       const double d = (c.position[i] - c.position[j]).norm();
       if (d >= c.radius[i]) continue;
+      const int J = shared(a, b);
+      if (J >= 0 && ((c.position[i] - c.position[J]).norm() < 2.0 * c.radius[J] ||
+                     (c.position[j] - c.position[J]).norm() < 2.0 * c.radius[J]))
+        continue;
       std::ostringstream w;
       w << "the radius " << c.radius[i] * 1e3 << " mm of " << c.vessel_names[c.vessel[i]] << " at "
         << mm(c.position[i]) << " reaches the centreline of " << c.vessel_names[c.vessel[j]] << " "
