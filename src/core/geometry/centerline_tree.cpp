@@ -260,15 +260,15 @@ struct Branch {
 std::vector<Branch> branchesFrom(const Graph& g, int inlet) {
   std::vector<Branch> out;
   std::vector<int> seen(g.x.size(), 0);
-  std::vector<std::pair<int, int>> todo;  // (first edge's far vertex, from vertex), parent branch
-  std::vector<int> todo_parent;
+  std::vector<std::pair<int, int>> pending;  // (first edge's far vertex, from vertex)
+  std::vector<int> pending_parent;           // and the branch it leaves
   seen[inlet] = 1;
-  for (int w : g.adj[inlet]) todo.push_back({w, inlet}), todo_parent.push_back(-1);
-  while (!todo.empty()) {
-    auto [v, from] = todo.back();
-    const int parent = todo_parent.back();
-    todo.pop_back();
-    todo_parent.pop_back();
+  for (int w : g.adj[inlet]) pending.push_back({w, inlet}), pending_parent.push_back(-1);
+  while (!pending.empty()) {
+    auto [v, from] = pending.back();
+    const int parent = pending_parent.back();
+    pending.pop_back();
+    pending_parent.pop_back();
     Branch b;
     b.parent = parent;
     b.v = {from};
@@ -287,7 +287,7 @@ std::vector<Branch> branchesFrom(const Graph& g, int inlet) {
     out.push_back(b);
     const int self = static_cast<int>(out.size()) - 1, last = b.v.back();
     for (int w : g.adj[last])
-      if (w != prev) todo.push_back({w, last}), todo_parent.push_back(self);
+      if (w != prev) pending.push_back({w, last}), pending_parent.push_back(self);
   }
   return out;
 }

@@ -14,6 +14,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+/// A drive's position before a step.
+struct DriveReading {
+  double inserted;  // [m]
+  double angle;     // [rad]
+};
+
 bool sameCommand(const DriveCommand& a, const DriveCommand& b) {
   return a.mode == b.mode && a.insertion == b.insertion && a.rotation == b.rotation;
 }
@@ -174,13 +180,13 @@ StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth)
 
 /// A drive that reached the end of its travel in the last step: its
 /// velocity command goes on, clamped (told once, when the end is reached).
-void noteDriveLimits(const SceneModel& model, const std::vector<DeviceState>& before,
+void noteDriveLimits(const SceneModel& model, const std::vector<DriveReading>& before,
                      SimData* data) {
   for (size_t i = 0; i < before.size(); ++i) {
     const DriveCommand& c = data->commands[i];
     if (c.mode != DriveCommand::Mode::kVelocity || c.insertion == 0.0) continue;
     const double now = data->devices[i].inserted_length, full = model.devices[i].length;
-    const double was = before[i].inserted_length;
+    const double was = before[i].inserted;
     const bool out = c.insertion < 0.0 && now <= 0.0 && was > 0.0;
     const bool in = c.insertion > 0.0 && now >= full && was < full;
     if (!out && !in) continue;
@@ -196,15 +202,14 @@ void noteDriveLimits(const SceneModel& model, const std::vector<DeviceState>& be
 /// length and angle as `before`) and no node moved more than
 /// SleepOptions::displacement; after SleepOptions::steps such steps the
 /// scene sleeps, its velocities zeroed.
-void noteRest(const SceneModel& model, const std::vector<DeviceState>& before, SimData* data) {
+void noteRest(const SceneModel& model, const std::vector<DriveReading>& before, SimData* data) {
   const SleepOptions& o = model.sleep;
   if (!o.enabled || model.effects.vessel_motion) return;
   const double dt = model.time_step;
   bool rest = data->stats.subdivisions == 0;
   for (size_t i = 0; i < model.devices.size() && rest; ++i) {
     const DeviceState& x = data->devices[i];
-    rest = x.inserted_length == before[i].inserted_length &&
-           x.rotation_angle == before[i].rotation_angle;
+    rest = x.inserted_length == before[i].inserted && x.rotation_angle == before[i].angle;
     double arm = 0.0;  // a node's turn moves its element's far end by angle * length
     for (const auto& e : model.devices[i].elements) arm = std::max(arm, e.length);
     for (size_t n = 0; n < x.position.size() && rest; ++n)
@@ -529,7 +534,9 @@ StepStatus step(const SceneModel& model, SimData* data) {
     data->stats.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     return StepStatus::kOk;
   }
-  const std::vector<DeviceState> before = data->devices;
+  std::vector<DriveReading> before;
+  for (const DeviceState& d : data->devices)
+    before.push_back({d.inserted_length, d.rotation_angle});
   const StepStatus status = advance(model, data, model.time_step, 0);
   if (status == StepStatus::kOk) {
     data->time = t_end;  // no drift from summed halves
