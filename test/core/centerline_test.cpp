@@ -69,6 +69,14 @@ TEST(Centerline, ZeroRadius) {
   expectAt(errorFor("1 1 0 0 0 0 -1\n"), 1, "radius", "must be positive");
 }
 
+TEST(Centerline, ARadiusOrCoordinateOfAnotherScaleIsRefused) {
+  // In mm (the default): 1e308 mm would make a field of kernels that takes
+  // minutes to build (found by the fuzz test).
+  expectAt(errorFor("1 1 0 0 0 1 -1\n2 1 0 0 1 1e308 1\n"), 2, "radius",
+           "beyond the largest vessel radius");
+  expectAt(errorFor("1 1 0 0 0 1 -1\n2 1 2e4 0 1 1 1\n"), 2, "x", "beyond 10 m");
+}
+
 TEST(Centerline, NaN) {
   expectAt(errorFor("1 1 0 0 0 1 -1\n2 1 0 nan 1 1 1\n"), 2, "y", "must be finite");
 }

@@ -18,6 +18,13 @@
 
 namespace evsim {
 
+/// The largest vessel radius a centreline may give [m] (the aorta's is
+/// about 15 mm): a larger one is a unit mistake, and a field of such
+/// kernels would take minutes to build.
+constexpr double kMaxVesselRadius = 0.1;
+/// The largest coordinate a centreline point may have [m].
+constexpr double kMaxCoordinate = 10.0;
+
 struct Centerline {
   std::vector<Vec3> position;  // [m]
   std::vector<double> radius;  // lumen radius [m]

@@ -168,6 +168,14 @@ Centerline loadCenterlineFile(const std::string& path, double default_unit) {
       if (parent == static_cast<int>(c.position.size()))
         throw LoadError(path, r.line, "parent", "a point cannot be its own parent");
     }
+    if (unit * r.r > kMaxVesselRadius) {
+      std::ostringstream why;
+      why << unit * r.r << " m is beyond the largest vessel radius (" << kMaxVesselRadius
+          << " m): check the units";
+      throw LoadError(path, r.line, "radius", why.str());
+    }
+    if ((unit * r.x).cwiseAbs().maxCoeff() > kMaxCoordinate)
+      throw LoadError(path, r.line, "x", "a coordinate beyond 10 m: check the units");
     c.position.push_back(unit * r.x);
     c.radius.push_back(unit * r.r);
     c.parent.push_back(parent);

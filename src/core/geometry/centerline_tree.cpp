@@ -88,6 +88,15 @@ void checkInput(const CenterlinePolylines& in) {
   for (size_t i = 0; i < in.points.size(); ++i) {
     if (!in.points[i].allFinite())
       throw std::invalid_argument("point " + std::to_string(i) + " is not finite");
+    if (in.points[i].cwiseAbs().maxCoeff() > kMaxCoordinate)
+      throw std::invalid_argument("point " + std::to_string(i) +
+                                  " lies beyond 10 m of the origin: check the units");
+    if (in.radius[i] > kMaxVesselRadius) {
+      std::ostringstream why;
+      why << "the radius of point " << i << " is " << in.radius[i]
+          << " m, beyond the largest vessel radius (" << kMaxVesselRadius << " m): check the units";
+      throw std::invalid_argument(why.str());
+    }
     if (!(std::isfinite(in.radius[i]) && in.radius[i] > 0.0)) {
       std::ostringstream why;
       why << "the radius of point " << i << " at " << mm(in.points[i]) << " is " << in.radius[i]
