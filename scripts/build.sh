@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Builds the package in a catkin workspace under build/ (outside git's view).
 # Usage: scripts/build.sh [extra catkin_make arguments]
+# EVSIM_WS=DIR builds in another workspace (scripts/sanitize.sh: build/asan_ws).
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
-ws="$repo/build/ws"
+ws="${EVSIM_WS:-$repo/build/ws}"
 pkg="$ws/src/endovascular_sim"
 mkdir -p "$ws/src"
 touch "$repo/build/CATKIN_IGNORE"

@@ -8,25 +8,12 @@
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 ws="$repo/build/asan_ws"
-pkg="$ws/src/endovascular_sim"
 filter=${1:-'Fuzz.*:Loader.*:CenterlineVtk.*:StateFile.*:Sleep.AStateFileKeepsTheSleep'}
-mkdir -p "$ws/src"
-touch "$repo/build/CATKIN_IGNORE"
-[ -L "$pkg" ] && rm "$pkg"
-mkdir -p "$pkg"
-for entry in "$repo"/* "$repo"/.clang-format; do
-  [ "$(basename "$entry")" = build ] || ln -sfn "$entry" "$pkg/$(basename "$entry")"
-done
-find "$pkg" -maxdepth 1 -xtype l -delete
-export PATH="/usr/bin:$PATH"
 flags="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
-cd "$ws"
-catkin_make core_tests evsim -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON \
+# The workspace, its links to the repository and the build: build.sh's, in build/asan_ws.
+EVSIM_WS="$ws" bash "$repo/scripts/build.sh" core_tests evsim -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
-  -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" 2>&1 |
-  grep -E 'error|warning: |\[100%\]' || true
-test "${PIPESTATUS[0]}" -eq 0
+  -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined"
 # Leaks in the libraries evsim links (VTK, urdfdom, yaml-cpp) at exit are
 # theirs; errors of memory and undefined behaviour stop the run.
 export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1
