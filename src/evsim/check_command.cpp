@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "endovascular_sim/core/file_path.h"
 #include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/geometry/vessel_field.h"
 #include "endovascular_sim/scene/centerline_vtk.h"
@@ -21,12 +22,6 @@ namespace evsim {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string extensionOf(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  for (char& ch : e) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return e;
-}
 
 bool isStateFile(const std::string& path) {
   std::ifstream in(path);
@@ -45,7 +40,7 @@ double unitOf(const std::string& units) {
 /// What the file holds when valid; throws LoadError otherwise.
 std::string checkOne(const CheckOptions& o, const std::string& path) {
   if (!fs::is_regular_file(path)) throw LoadError(path, 0, "", "no such file");
-  const std::string ext = extensionOf(path);
+  const std::string ext = lowerCaseExtension(path);
   if (ext == ".urdf" || ext == ".xml") {
     const DeviceSpec spec = loadDeviceFile(path);
     const DeviceModel m = buildDeviceModel(spec);

@@ -1,4 +1,4 @@
-// Assembly + CHOLMOD factorisation + one solve of the free motion of a
+// Assembly + chain factorisation (block LDL^T) + one solve of the free motion of a
 // guidewire-like device, for 50 ... 400 elements. Cost should grow linearly.
 #include <benchmark/benchmark.h>
 

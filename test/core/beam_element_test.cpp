@@ -107,5 +107,52 @@ TEST(BeamElement, TangentAtRestEqualsHessian) {
   }
 }
 
+// Away from rest the tangent is the Gauss-Newton part L0 J^T C J: compare
+// with J formed by finite differences of the strain, a second way to the
+// same matrix (the element forms it from 3x3 blocks).
+TEST(BeamElement, TangentIsGaussNewtonOfStrainJacobian) {
+  Pose2 p;
+  const BeamElementRest rest = curvedRest(&p);
+  p.x2 += Vec3(2e-5, -4e-5, 1e-5);
+  p.R2 = expSO3(Vec3(0.05, -0.08, 0.03)) * p.R2;
+  p.R1 = expSO3(Vec3(-0.02, 0.04, 0.07)) * p.R1;
+  BeamElementEval ev;
+  evaluateBeamElement(rest, p.x1, p.R1, p.x2, p.R2, true, &ev);
+  Mat6x12 J;
+  for (int j = 0; j < 12; ++j) {
+    const double h = (j / 3) % 2 == 0 ? 1e-9 : 1e-7;
+    BeamElementEval plus, minus;
+    const Pose2 pp = perturbed(p, j, h), pm = perturbed(p, j, -h);
+    evaluateBeamElement(rest, pp.x1, pp.R1, pp.x2, pp.R2, false, &plus);
+    evaluateBeamElement(rest, pm.x1, pm.R1, pm.x2, pm.R2, false, &minus);
+    J.col(j) = (plus.strain - minus.strain) / (2.0 * h);
+  }
+  Vec6 c;
+  c << rest.stretch_shear_stiffness, rest.bend_twist_stiffness;
+  const Mat12 K = rest.length * J.transpose() * c.asDiagonal() * J;
+  EXPECT_LT((K - ev.stiffness).norm(), 1e-5 * K.norm());
+  EXPECT_LT((ev.stiffness - ev.stiffness.transpose()).norm(), 1e-12 * K.norm());
+}
+
+// The quaternion and rotation-matrix forms of the element agree, also at a
+// relative rotation of nearly pi and at none.
+TEST(BeamElement, QuaternionAndMatrixFormsAgree) {
+  Pose2 p;
+  const BeamElementRest rest = curvedRest(&p);
+  for (const Vec3& turn :
+       {Vec3(0, 0, 0), Vec3(1e-9, 0, 0), Vec3(0.3, -0.2, 0.1), Vec3(0, 3.1, 0)}) {
+    const Mat3 R2 = expSO3(turn) * p.R1;
+    BeamElementEval m, q;
+    evaluateBeamElement(rest, p.x1, p.R1, p.x2, R2, true, &m);
+    evaluateBeamElement(rest, p.x1, Quat(p.R1), p.x2, Quat(R2), true, &q);
+    EXPECT_LT((m.gradient - q.gradient).norm(), 1e-12 * (1.0 + m.gradient.norm()));
+    EXPECT_LT((m.stiffness - q.stiffness).norm(), 1e-12 * m.stiffness.norm());
+    // Phi from the quaternion equals log(R1^T R2).
+    EXPECT_LT(
+        (q.strain.tail<3>() + rest.curvature - logSO3(p.R1.transpose() * R2) / rest.length).norm(),
+        1e-9);
+  }
+}
+
 }  // namespace
 }  // namespace evsim

@@ -25,6 +25,16 @@ TEST(So3, ExpMatchesEigenAngleAxis) {
   EXPECT_LT((expSO3(phi) - ref).norm(), 1e-14);
 }
 
+TEST(So3, QuaternionExpMatchesEigenAngleAxis) {
+  for (double angle : {0.0, 1e-12, 1e-6, 9.9e-5, 1.01e-4, 0.01, 1.0, 3.1}) {
+    const Vec3 axis = Vec3(0.3, -1.2, 0.7).normalized();
+    const Quat q = expQuaternion(angle * axis);
+    const Mat3 ref = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+    EXPECT_LT((q.toRotationMatrix() - ref).norm(), 1e-15 + 1e-15 * angle) << angle;
+    EXPECT_NEAR(q.norm(), 1.0, 1e-15);
+  }
+}
+
 // Jr is defined by exp(phi + d) = exp(phi) exp(Jr d) + O(d^2): check by finite
 // differences of the exponential, and JrInv as its matrix inverse.
 TEST(So3, RightJacobianMatchesFiniteDifferences) {

@@ -51,6 +51,14 @@ class VesselField : public ImplicitSurface {
   /// Upper bound of |Hessian of f| [1/m^2] over the axis-aligned box of the
   /// segment [p0, p1] (motion included).
   double hessianBound(const Vec3& p0, const Vec3& p1, double device_radius) const override;
+  /// Tabulates every grid cell's Hessian bound for these device radii [m]
+  /// (a scene's), so that hessianBound() for them reads one number per cell
+  /// instead of summing the cell's primitives: detection asks for it at
+  /// every certified ball, and a cell of the 4,000-vessel network holds
+  /// dozens of primitives. The table holds the same sums, rounded up to
+  /// float (4 bytes per cell and radius; at most kMaxTabulatedCells cells).
+  void tabulateHessianBounds(const std::vector<double>& device_radii);
+  static constexpr long kMaxTabulatedCells = 1L << 25;
 
   MotionSnapshot motionAt(double t) const override;
   /// Displacement u(x) [m] of the motion field at a point (what a vessel
@@ -98,6 +106,12 @@ class VesselField : public ImplicitSurface {
     return (static_cast<long>(iz) * dims_[1] + iy) * dims_[0] + ix;
   }
   bool cellOf(const Vec3& p, int* ix, int* iy, int* iz) const;
+  /// Sum of the Hessian bounds of the primitives listed in cell c.
+  double cellHessianBound(long c, double device_radius) const;
+  struct HessianTable {
+    double device_radius;
+    std::vector<float> per_cell;  // cellHessianBound, rounded up
+  };
 
   long serial_{-1};  // unique per constructed field (the moved segments' cache key)
   double alpha_{0.6}, iso_{0.0}, sphere_weight_{0.0};
@@ -110,6 +124,7 @@ class VesselField : public ImplicitSurface {
   int dims_[3]{0, 0, 0};
   std::vector<int> cell_start_;  // CSR over cells
   std::vector<int> cell_items_;  // primitive ids: segments, then spheres (offset)
+  std::vector<HessianTable> hessian_tables_;
 };
 
 }  // namespace evsim

@@ -34,7 +34,12 @@ struct BeamElementEval {
   Mat12 stiffness;   // Gauss-Newton tangent [N/m, N, N m/rad]
 };
 
-/// Evaluates energy and gradient, and the tangent when with_stiffness.
+/// Evaluates energy and gradient, and the tangent when with_stiffness, from
+/// the nodal frames as unit quaternions (the state's own form: the element
+/// then needs one atan2 and no other trigonometric function).
+void evaluateBeamElement(const BeamElementRest& rest, const Vec3& x1, const Quat& q1,
+                         const Vec3& x2, const Quat& q2, bool with_stiffness, BeamElementEval* out);
+/// The same from rotation matrices.
 void evaluateBeamElement(const BeamElementRest& rest, const Vec3& x1, const Mat3& R1,
                          const Vec3& x2, const Mat3& R2, bool with_stiffness, BeamElementEval* out);
 

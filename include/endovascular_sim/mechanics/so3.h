@@ -12,6 +12,9 @@ Mat3 hat(const Vec3& a);
 /// Rodrigues' exponential map of a rotation vector [rad].
 Mat3 expSO3(const Vec3& phi);
 
+/// The same rotation as a unit quaternion, without forming the matrix.
+Quat expQuaternion(const Vec3& phi);
+
 /// Principal logarithm, |result| <= pi [rad]. Accurate near identity.
 Vec3 logSO3(const Mat3& R);
 

@@ -20,6 +20,42 @@ bool justInside(const ImplicitSurface& surface, double radius, const MotionSnaps
   return g->value > 0.0;
 }
 
+/// Below this first-order depth [m] a point beyond the wall is within the
+/// tolerance band for noTunnelPossible (justInside moves such an end by
+/// about its depth).
+constexpr double kBandDepth = 5e-6;
+/// How deep [m] a chord from or to the band must run to count as a tunnel.
+constexpr double kTissue = 1e-3;
+
+/// True when tunnelExit cannot find a tunnel on p0 -> p, proved from the
+/// field at the two ends and a bound H of the Hessian around the chord (a
+/// step's chord is micrometres long, H L^2 tiny): no root when both ends are
+/// inside and g stays positive along it, g >= min(g0, g) - H L^2 / 8; from
+/// or to the band, no point within the band's reach of the chord deeper
+/// than kTissue. Spares the two projections and root searches of every
+/// point pressed against the wall at every step. False: not proved.
+bool noTunnelPossible(const ImplicitSurface& surface, const Vec3& p0, const FieldSample& g0,
+                      const Vec3& p, const FieldSample& g, double radius) {
+  const double G0 = g0.gradient.norm(), G1 = g.gradient.norm();
+  const double length = (p - p0).norm();
+  if (g0.value >= 0.0 && g.value >= 0.0) {
+    const double H = surface.hessianBound(p0, p, radius);
+    return std::min(g0.value, g.value) - 0.125 * H * length * length > 0.0;
+  }
+  // An end beyond the band is not from the band: tunnelExit decides.
+  const auto inBand = [](const FieldSample& s, double G) {
+    return s.value >= 0.0 || (G > 0.0 && -s.value <= kBandDepth * G);
+  };
+  if (!inBand(g0, G0) || !inBand(g, G1)) return false;
+  const double reach = 4.0 * kBandDepth;  // where justInside may move the ends
+  const Vec3 pad = Vec3::Constant(reach);
+  const double H = surface.hessianBound(p0.cwiseMin(p) - pad, p0.cwiseMax(p) + pad, radius);
+  const double g_low = std::min(g0.value, g.value) - 0.125 * H * length * length -
+                       (std::max(G0, G1) + 0.5 * H * length) * reach - 0.5 * H * reach * reach;
+  const double slope_low = std::min(G0, G1) - H * (0.5 * length + reach);
+  return slope_low > 0.0 && g_low >= -kTissue * slope_low;
+}
+
 }  // namespace
 
 /// Where a point's straight path p0 -> p, from inside (or the tolerance
@@ -37,6 +73,7 @@ SurfacePoint tunnelExit(const ImplicitSurface& surface, const Vec3& p0, const Fi
   // inside, at its projection: else a path through the tissue from or to
   // there would never count (step 1,871 of 'tortuous' took the J-tip 12 mm
   // across a hairpin so, from the band to the band).
+  if (noTunnelPossible(surface, p0, g0, p, g, radius)) return {};
   Vec3 from = p0, to = p;
   FieldSample g_from = g0, g_to = g;
   if (!justInside(surface, radius, motion, root, &from, &g_from) ||
@@ -57,7 +94,6 @@ SurfacePoint tunnelExit(const ImplicitSurface& surface, const Vec3& p0, const Fi
   // aneurysm's neck in the loop's iterates cut its rim by 0.3-0.5 mm
   // (chords 1-2 mm outside, walls facing each other) and come back in later
   // loops; counting them ran 'aneurysm' out of loops.
-  constexpr double kTissue = 1e-3;  // [m]
   const FieldSample middle = surface.evaluate(0.5 * (exit.point + entry.point), radius, motion);
   const double slope = middle.gradient.norm();
   const bool deep = middle.value < 0.0 && (slope == 0.0 || -middle.value / slope > kTissue);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace evsim {
@@ -286,6 +287,38 @@ FieldSample VesselField::evaluate(const Vec3& p, double device_radius,
   return out;
 }
 
+double VesselField::cellHessianBound(long c, double device_radius) const {
+  const int ns = static_cast<int>(segments_.size());
+  double sum = 0.0;
+  for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+    const int id = cell_items_[k];
+    const double rho = id < ns ? segments_[id].rho : spheres_[id - ns].rho;
+    const double R = (rho - device_radius) / alpha_;
+    if (R <= 0.0) continue;
+    sum += id < ns ? segmentHessianBound(R) : sphereHessianBound(R, sphere_weight_);
+  }
+  return sum;
+}
+
+void VesselField::tabulateHessianBounds(const std::vector<double>& device_radii) {
+  const long cells = static_cast<long>(cell_start_.size()) - 1;
+  if (cells <= 0 || cells > kMaxTabulatedCells) return;
+  for (double r : device_radii) {
+    bool known = false;
+    for (const HessianTable& t : hessian_tables_) known = known || t.device_radius == r;
+    if (known) continue;
+    HessianTable table{r, std::vector<float>(cells, 0.0f)};
+    for (long c = 0; c < cells; ++c) {
+      const double sum = cellHessianBound(c, r);
+      float v = static_cast<float>(sum);
+      if (static_cast<double>(v) < sum)
+        v = std::nextafter(v, std::numeric_limits<float>::infinity());
+      table.per_cell[c] = v;
+    }
+    hessian_tables_.push_back(std::move(table));
+  }
+}
+
 double VesselField::hessianBound(const Vec3& p0, const Vec3& p1, double device_radius) const {
   if (cell_start_.empty()) return 0.0;
   int lo[3], hi[3];
@@ -295,21 +328,16 @@ double VesselField::hessianBound(const Vec3& p0, const Vec3& p1, double device_r
     lo[k] = std::clamp(static_cast<int>(std::floor(a)), 0, dims_[k] - 1);
     hi[k] = std::clamp(static_cast<int>(std::floor(b)), 0, dims_[k] - 1);
   }
-  const int ns = static_cast<int>(segments_.size());
+  const std::vector<float>* table = nullptr;
+  for (const HessianTable& t : hessian_tables_)
+    if (t.device_radius == device_radius) table = &t.per_cell;
   double bound = 0.0;
   for (int z = lo[2]; z <= hi[2]; ++z)
     for (int y = lo[1]; y <= hi[1]; ++y)
       for (int x = lo[0]; x <= hi[0]; ++x) {
         const long c = cellIndex(x, y, z);
-        double sum = 0.0;
-        for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-          const int id = cell_items_[k];
-          const double rho = id < ns ? segments_[id].rho : spheres_[id - ns].rho;
-          const double R = (rho - device_radius) / alpha_;
-          if (R <= 0.0) continue;
-          sum += id < ns ? segmentHessianBound(R) : sphereHessianBound(R, sphere_weight_);
-        }
-        bound = std::max(bound, sum);
+        bound = std::max(
+            bound, table ? static_cast<double>((*table)[c]) : cellHessianBound(c, device_radius));
       }
   return bound;
 }

@@ -3,38 +3,39 @@
 #include "endovascular_sim/mechanics/chain_factor.h"
 
 #include <algorithm>
-#include <cmath>
 
 namespace evsim {
 
 namespace {
 
-/// The inverse M = L^-1 of the Cholesky factor of a symmetric positive
-/// definite 6x6 block (A = L L^T, A^-1 = M^T M), written out for the fixed
-/// size: Eigen's LLT takes its general-size triangular solves for 6x6, three
-/// times as slow. False when A is not positive definite.
-bool inverseCholeskyFactor(const Mat6& A, Mat6* M) {
-  double L[6][6] = {};
-  for (int j = 0; j < 6; ++j) {
-    double d = A(j, j);
-    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
-    if (!(d > 0.0)) return false;
-    L[j][j] = std::sqrt(d);
-    for (int i = j + 1; i < 6; ++i) {
-      double s = A(i, j);
-      for (int k = 0; k < j; ++k) s -= L[i][k] * L[j][k];
-      L[i][j] = s / L[j][j];
-    }
+/// [D | U | I] of one pivot, row-major so that a row operation is one
+/// vectorised pass over 18 contiguous numbers.
+using Augmented = Eigen::Matrix<double, 6, 18, Eigen::RowMajor>;
+
+/// D^-1 U and D^-1 of a symmetric positive definite 6x6 pivot D, by
+/// Gauss-Jordan elimination of [D | U | I]: U is eliminated with D itself,
+/// never multiplied by a formed D^-1 (with D^-1 formed first, a stiff wire,
+/// cond(A) ~ 1e13, lost a digit and a half of W). No pivoting: the pivots of
+/// an SPD matrix are its Schur complements' diagonals, positive. False when
+/// one is not (D is not positive definite).
+bool eliminatePivot(const Mat6& D, const Mat6* U, Mat6* DinvU, Mat6* Dinv) {
+  Augmented a;
+  a.leftCols<6>() = D;
+  if (U)
+    a.middleCols<6>(6) = *U;
+  else
+    a.middleCols<6>(6).setZero();
+  a.rightCols<6>().setIdentity();
+  for (int k = 0; k < 6; ++k) {
+    const double pivot = a(k, k);
+    if (!(pivot > 0.0)) return false;
+    a.row(k) *= 1.0 / pivot;
+    for (int i = 0; i < 6; ++i)
+      if (i != k) a.row(i) -= a(i, k) * a.row(k);
   }
-  M->setZero();
-  for (int j = 0; j < 6; ++j) {
-    (*M)(j, j) = 1.0 / L[j][j];
-    for (int i = j + 1; i < 6; ++i) {
-      double s = 0.0;
-      for (int k = j; k < i; ++k) s -= L[i][k] * (*M)(k, j);
-      (*M)(i, j) = s / L[i][i];
-    }
-  }
+  if (DinvU) *DinvU = a.middleCols<6>(6);
+  const Mat6 inv = a.rightCols<6>();
+  *Dinv = 0.5 * (inv + inv.transpose());
   return true;
 }
 
@@ -45,18 +46,14 @@ bool ChainFactor::factorize(const ChainMatrix& A, int first) {
   transfer_.resize(std::max(0, n - 1));
   d_inv_.resize(n);
   if (n == 0) return true;
-  Mat6 D = A.diag[first], M, MU;
+  Mat6 D = A.diag[first], DinvU;
   for (int i = 0; i < n; ++i) {
-    if (!inverseCholeskyFactor(D, &M)) return false;
-    d_inv_[i].noalias() = M.transpose() * M;
-    if (i + 1 == n) break;
+    if (i + 1 == n) return eliminatePivot(D, nullptr, nullptr, &d_inv_[i]);
     const Mat6& upper = A.upper[first + i];  // A_{i,i+1}
-    // -D^-1 A_{i,i+1} through the two triangular factors: with D^-1 formed
-    // first, a stiff wire (cond(A) ~ 1e13) lost a digit and a half of W.
-    MU.noalias() = M * upper;
-    transfer_[i].noalias() = -M.transpose() * MU;
+    if (!eliminatePivot(D, &upper, &DinvU, &d_inv_[i])) return false;
+    transfer_[i] = -DinvU;
     D = A.diag[first + i + 1];
-    D.noalias() += upper.transpose() * transfer_[i];
+    D.noalias() -= upper.transpose() * DinvU;
   }
   return true;
 }

@@ -14,8 +14,8 @@ DriveWrench driveWrench(const DeviceModel& model, const Introducer& introducer,
   if (state.cut_element >= 0) k = std::min(k, state.cut_element);    // as computeFreeMotion
   if (k + 1 >= model.num_nodes || k == state.cut_element) return w;  // the cut carries nothing
   BeamElementEval e;
-  evaluateBeamElement(model.elements[k], state.position[k], state.rotation[k].toRotationMatrix(),
-                      state.position[k + 1], state.rotation[k + 1].toRotationMatrix(), false, &e);
+  evaluateBeamElement(model.elements[k], state.position[k], state.rotation[k],
+                      state.position[k + 1], state.rotation[k + 1], false, &e);
   w.force = e.gradient.segment<3>(0);
   w.moment = e.gradient.segment<3>(3);
   const Vec3 axis = introducer.frame.col(0);

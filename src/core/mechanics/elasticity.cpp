@@ -15,26 +15,21 @@ double assembleElasticity(const DeviceModel& model, const DeviceState& state, Ve
   }
   double energy = 0.0;
   BeamElementEval ev;
-  Mat3 R1 = state.rotation[0].toRotationMatrix();
   for (int e = 0; e + 1 < n; ++e) {
-    const Mat3 R2 = state.rotation[e + 1].toRotationMatrix();
-    if (e == state.cut_element) {  // detached: pusher and coil no longer joined
-      R1 = R2;
-      continue;
-    }
-    evaluateBeamElement(model.elements[e], state.position[e], R1, state.position[e + 1], R2,
-                        K != nullptr, &ev);
+    if (e == state.cut_element) continue;  // detached: pusher and coil no longer joined
+    evaluateBeamElement(model.elements[e], state.position[e], state.rotation[e],
+                        state.position[e + 1], state.rotation[e + 1], K != nullptr, &ev);
     energy += ev.energy;
     if (gradient) gradient->segment<12>(6 * e) += ev.gradient;
     if (K && tangent == Tangent::kConsistent)
-      ev.stiffness = beamElementConsistentTangent(model.elements[e], state.position[e], R1,
-                                                  state.position[e + 1], R2);
+      ev.stiffness = beamElementConsistentTangent(
+          model.elements[e], state.position[e], state.rotation[e].toRotationMatrix(),
+          state.position[e + 1], state.rotation[e + 1].toRotationMatrix());
     if (K) {
       K->diag[e] += ev.stiffness.block<6, 6>(0, 0);
       K->diag[e + 1] += ev.stiffness.block<6, 6>(6, 6);
       K->upper[e] += ev.stiffness.block<6, 6>(0, 6);
     }
-    R1 = R2;
   }
   return energy;
 }
@@ -48,7 +43,7 @@ void applyIncrement(const VecX& dq, int first_node, DeviceState* state) {
   for (int i = first_node; i < n; ++i) {
     const int k = 6 * (i - first_node);
     state->position[i] += dq.segment<3>(k);
-    state->rotation[i] = Quat(expSO3(dq.segment<3>(k + 3))) * state->rotation[i];
+    state->rotation[i] = expQuaternion(dq.segment<3>(k + 3)) * state->rotation[i];
     state->rotation[i].normalize();
   }
 }

@@ -16,6 +16,17 @@ Mat3 expSO3(const Vec3& phi) {
   return Eigen::AngleAxisd(theta, phi / theta).toRotationMatrix();
 }
 
+Quat expQuaternion(const Vec3& phi) {
+  const double t2 = phi.squaredNorm();
+  if (t2 < 1e-8) {  // cos(t/2) and sin(t/2)/t by series: error ~ t^4 / 3840
+    const Vec3 v = (0.5 - t2 / 48.0) * phi;
+    return Quat(1.0 - t2 / 8.0 + t2 * t2 / 384.0, v.x(), v.y(), v.z());
+  }
+  const double t = std::sqrt(t2);
+  const Vec3 v = (std::sin(0.5 * t) / t) * phi;
+  return Quat(std::cos(0.5 * t), v.x(), v.y(), v.z());
+}
+
 Vec3 logSO3(const Mat3& R) {
   Quat q(R);
   q.normalize();

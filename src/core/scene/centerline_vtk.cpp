@@ -14,18 +14,13 @@
 #include <filesystem>
 #include <map>
 
+#include "endovascular_sim/core/file_path.h"
 #include "endovascular_sim/core/load_error.h"
 
 namespace evsim {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string extension(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  for (char& ch : e) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return e;
-}
 
 [[noreturn]] void fail(const std::string& path, const std::string& why) {
   throw LoadError(path, 0, "vessels.centerline", why);
@@ -40,7 +35,7 @@ vtkSmartPointer<vtkPolyData> readPolyData(const std::string& path) {
   vtkObject::GlobalWarningDisplayOff();
   vtkSmartPointer<vtkPolyData> out;
   std::string why;
-  if (extension(path) == ".vtp") {
+  if (lowerCaseExtension(path) == ".vtp") {
     auto tester = vtkSmartPointer<vtkXMLFileReadTester>::New();
     tester->SetFileName(path.c_str());
     if (!tester->TestReadFile()) {
@@ -110,7 +105,7 @@ std::vector<int> branchIds(vtkPolyData* data, const std::vector<vtkIdType>& cell
 }  // namespace
 
 bool isVtkCenterlinePath(const std::string& path) {
-  const std::string e = extension(path);
+  const std::string e = lowerCaseExtension(path);
   return e == ".vtp" || e == ".vtk";
 }
 

@@ -235,6 +235,16 @@ void sleepingStep(SimData* data) {
 /// Every device's access point lies in a lumen wide enough for it: else the
 /// first step fails with the device beyond the wall; refused at load with
 /// the distance to the wall.
+/// The radii [m] of every sample point: the widths detection evaluates the
+/// vessel field for.
+std::vector<double> sampleRadii(const std::vector<std::vector<SamplePoint>>& samples) {
+  std::vector<double> radii;
+  for (const auto& device : samples)
+    for (const SamplePoint& s : device)
+      if (std::find(radii.begin(), radii.end(), s.radius) == radii.end()) radii.push_back(s.radius);
+  return radii;
+}
+
 void checkAccessPoints(const SceneSpec& spec, const VesselField* vessels) {
   if (!vessels) return;
   for (size_t i = 0; i < spec.devices.size(); ++i) {
@@ -399,14 +409,16 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
     else if (e == "coaxial")
       m.effects.coaxial = true;
   if (m.effects.gravity) m.gravity = spec.gravity;
+  std::shared_ptr<VesselField> field;  // tabulated once the devices' radii are known
   if (spec.vessels.present) {
     const Centerline centerline = buildCenterline(spec.vessels, &m.warnings);
     for (DevicePlacementSpec& d : spec.devices)
       if (d.at_inlet) d.introducer = inletIntroducer(centerline);
-    m.vessels = std::make_shared<const VesselField>(
+    field = std::make_shared<VesselField>(
         centerline, spec.vessels.aneurysms,
         m.effects.vessel_motion ? spec.vessels.motion : std::vector<MotionRegion>{},
         spec.vessels.field);
+    m.vessels = field;
     warnAcrossTheVessel(spec, centerline, *m.vessels, &m.warnings);
     m.surface = m.vessels;
     m.atlas = std::make_shared<const VesselAtlas>(centerline);
@@ -425,6 +437,7 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
     m.samples.push_back(sampleDevice(m.devices.back(), m.contact.contact_spacing));
     if (m.effects.coaxial) m.outer_of.push_back(d.outer);
   }
+  if (field) field->tabulateHessianBounds(sampleRadii(m.samples));
   m.script = spec.script;
   m.duration = spec.duration;
   return m;
