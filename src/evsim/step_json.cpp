@@ -43,6 +43,8 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
         << ",\"drive_torque_Nm\":" << num(data.drives[i].axial_torque) << ",\"tip_force_N\":["
         << num(f.x()) << "," << num(f.y()) << "," << num(f.z()) << "]";
     }
+    if (i < data.stalls.size())
+      o << ",\"drive_stalled\":" << (data.stalls[i].any() ? "true" : "false");
     if (model.atlas && i < data.tips.size()) {
       const VesselLocation& where = data.tips[i];
       o << ",\"tip_vessel\":\"" << model.atlas->vessels()[where.vessel].name

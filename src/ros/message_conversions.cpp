@@ -113,6 +113,7 @@ endovascular_sim::DeviceStatusArray toDeviceStatusMsg(const FrameSnapshot& f, in
       s.tip_force.y = f.tip_forces[i].y();
       s.tip_force.z = f.tip_forces[i].z();
     }
+    if (i < f.stalls.size()) s.drive_stalled = f.stalls[i].any();
     if (f.model->atlas && i < f.tips.size() && f.tips[i].vessel >= 0) {
       s.tip_vessel = f.model->atlas->vessels()[f.tips[i].vessel].name;
       s.tip_depth = f.tips[i].depth;

@@ -186,6 +186,7 @@ void SimulationLoop::shareState() {
   f.targets = data_.targets;
   f.drives = data_.drives;
   f.tip_forces = data_.tip_forces;
+  f.stalls = data_.stalls;
   std::lock_guard<std::mutex> status(status_mutex_);
   latest_ = std::move(f);
 }

@@ -3,10 +3,13 @@
 // closed end of a tube and held there, at rest and without gravity, is in
 // equilibrium between the drive and the contacts, so the drive's axial force
 // equals the contacts' axial reaction; a wire turning freely and a wire
-// pushed through free space at constant speed need no force.
+// pushed through free space at constant speed need no force; a drive with a
+// force limit pushing a wire into a closed tube stalls with the limit's
+// force, where a kinematic drive's force grows past it.
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <limits>
 
 #include "endovascular_sim/sim/simulation.h"
 #include "test_helpers.h"
@@ -73,6 +76,56 @@ TEST(DriveForce, AFreeWireNeedsNoForceToMoveSteadilyOrTurn) {
               worst_force, worst_torque);
   EXPECT_LT(worst_force, 1e-4);
   EXPECT_LT(worst_torque, 1e-6);
+}
+
+/// dead_end (its J-tip wire pushed at 40 mm/s into the closed tube) to t,
+/// with a drive limit of `limit` N (infinite: kinematic).
+SimData pushIntoTheClosedTube(double limit, int steps, SceneModel* model) {
+  SceneSpec spec = loadSceneFile(resolveScenePath("dead_end"));
+  spec.devices[0].drive.max_force = limit;
+  *model = buildSceneModel(spec);
+  SimData data = makeData(*model);
+  for (int k = 0; k < steps; ++k)
+    EXPECT_EQ(step(*model, &data), StepStatus::kOk) << k << ": " << data.last_error;
+  return data;
+}
+
+TEST(DriveLimit, AWirePushedIntoAClosedTubeStallsAtTheLimit) {
+  constexpr double kLimit = 1.0;  // [N]
+  SceneModel model;
+  const SimData free = pushIntoTheClosedTube(std::numeric_limits<double>::infinity(), 2600, &model);
+  const SimData held = pushIntoTheClosedTube(kLimit, 2600, &model);
+  const double commanded = 0.04 * 2.6;  // [m] the command's insertion by t = 2.6 s
+  std::printf(
+      "[ metric   ] closed tube at t = 2.6 s: kinematic drive %.3f N, %.1f mm in; limited drive "
+      "%.4f N, %.1f mm in (commanded %.1f mm)\n",
+      free.drives[0].axial_force, free.devices[0].inserted_length * 1e3, held.drives[0].axial_force,
+      held.devices[0].inserted_length * 1e3, commanded * 1e3);
+  // The kinematic drive follows its command and pushes past the limit ...
+  EXPECT_NEAR(free.devices[0].inserted_length, commanded, 1e-9);
+  EXPECT_GT(free.drives[0].axial_force, 1.5 * kLimit);
+  // ... the limited one stalls short of it, pushing with the limit's force.
+  EXPECT_EQ(held.stalls[0].insertion, 1);
+  EXPECT_LT(held.devices[0].inserted_length, commanded - 0.01);
+  EXPECT_NEAR(held.drives[0].axial_force, kLimit, 0.05 * kLimit);
+  EXPECT_FALSE(held.notices.empty());  // it said so
+}
+
+TEST(DriveLimit, AStallBlocksOnlyItsOwnSense) {
+  const DeviceModel wire =
+      buildDeviceModel(straightDeviceSpec("wire", test::wireSection(60e9, 0.25e-3), 0.2, 20));
+  DeviceState x;
+  x.inserted_length = 0.1;
+  const DriveCommand in{DriveCommand::Mode::kVelocity, 0.01, 1.0};
+  const DriveCommand out{DriveCommand::Mode::kVelocity, -0.01, -1.0};
+  advanceDrive(in, wire, 1e-3, &x, DriveStall{1, 1});  // pushed against the limit: holds
+  EXPECT_EQ(x.inserted_length, 0.1);
+  EXPECT_EQ(x.rotation_angle, 0.0);
+  advanceDrive(out, wire, 1e-3, &x, DriveStall{1, 1});  // pulling back is free
+  EXPECT_NEAR(x.inserted_length, 0.1 - 1e-5, 1e-15);
+  EXPECT_NEAR(x.rotation_angle, -1e-3, 1e-15);
+  advanceDrive(out, wire, 1e-3, &x, DriveStall{-1, -1});  // now that is blocked
+  EXPECT_NEAR(x.inserted_length, 0.1 - 1e-5, 1e-15);
 }
 
 }  // namespace

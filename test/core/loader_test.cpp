@@ -2,6 +2,7 @@
 // error that names the file, the line and the field, and nothing crashes.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -132,6 +133,26 @@ TEST_F(Loader, ValidDeviceAndSceneLoad) {
   // Density from the URDF mass: m / (pi r^2 L).
   EXPECT_NEAR(d.sections[0].section.density, 0.0002 / (M_PI * 0.000178 * 0.000178 * 0.3), 1e-6);
   EXPECT_EQ(s.script.size(), 1u);
+}
+
+TEST_F(Loader, DriveLimitsAreReadAndChecked) {
+  write("wire.urdf", kDevice);
+  std::string text = kScene;
+  text.replace(text.find("inserted_length: 0.05"), 21,
+               "inserted_length: 0.05\n    drive: {max_force: 2.5, max_torque: 0.004}");
+  const SceneSpec s = loadSceneFile(write("scene.yaml", text));
+  EXPECT_EQ(s.devices[0].drive.max_force, 2.5);
+  EXPECT_EQ(s.devices[0].drive.max_torque, 0.004);
+  EXPECT_TRUE(std::isinf(loadSceneFile(write("plain.yaml", kScene)).devices[0].drive.max_force));
+  expectNames(
+      sceneError("inserted_length: 0.05", "inserted_length: 0.05\n    drive: {max_force: -1}"),
+      "scene.yaml", 10, "devices[0].drive.max_force", "must be a positive force");
+  expectNames(
+      sceneError("inserted_length: 0.05", "inserted_length: 0.05\n    drive: {max_torque: 0}"),
+      "scene.yaml", 10, "devices[0].drive.max_torque", "must be a positive torque");
+  expectNames(
+      sceneError("inserted_length: 0.05", "inserted_length: 0.05\n    drive: {max_forse: 1}"),
+      "scene.yaml", 10, "devices[0].drive.max_forse", "max_force");
 }
 
 TEST_F(Loader, MissingFieldIsNamed) {

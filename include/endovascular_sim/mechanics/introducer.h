@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "endovascular_sim/core/types.h"
@@ -49,9 +50,28 @@ constexpr double kMaxRotationTarget = 2000.0 * M_PI;
 /// rotation beyond kMaxRotationTarget.
 std::string validateDriveCommand(const DriveCommand& command, const DeviceModel& model);
 
+/// What a drive can apply, like a hand or a robot's rollers: beyond its force
+/// [N] along the insertion axis or its torque [N m] about it the device slips
+/// in the drive (stalls) and the command is not followed. Infinite (the
+/// default): a kinematic drive that imposes its command whatever it takes.
+struct DriveLimits {
+  double max_force{std::numeric_limits<double>::infinity()};   // [N]
+  double max_torque{std::numeric_limits<double>::infinity()};  // [N m]
+};
+
+/// The motions a drive cannot impose this step, each +1 (in: the resistance
+/// to pushing, or to turning in the positive sense, reached the limit), -1
+/// (out, or the negative sense), 0 (free).
+struct DriveStall {
+  int insertion{0};
+  int rotation{0};
+  bool any() const { return insertion != 0 || rotation != 0; }
+};
+
 /// Advances inserted length and rotation angle over dt [s] toward the command,
-/// never faster than the device's limits.
+/// never faster than the device's limits, and not at all in a stalled
+/// direction (the drive slips: the device stays where it is).
 void advanceDrive(const DriveCommand& command, const DeviceModel& model, double dt,
-                  DeviceState* state);
+                  DeviceState* state, DriveStall stall = {});
 
 }  // namespace evsim

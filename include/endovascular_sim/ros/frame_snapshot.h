@@ -21,6 +21,7 @@ struct FrameSnapshot {
   std::vector<TargetProgress> targets;  // per scene target
   std::vector<DriveWrench> drives;      // per device: what its drive applies (last step)
   std::vector<Vec3> tip_forces;         // per device: contact force on its tip [N]
+  std::vector<DriveStall> stalls;       // per device: what its drive cannot impose
   MotionSnapshot motion;                // of the vessels at `time` (empty when they do not move)
 };
 

@@ -65,6 +65,7 @@ struct SceneModel {
   std::vector<std::vector<SamplePoint>> samples;  // contact sample points per device
   std::vector<DeviceModel> devices;
   std::vector<Introducer> introducers;
+  std::vector<DriveLimits> drive_limits;        // per device (scene key devices[].drive)
   std::vector<double> initial_inserted_length;  // [m]
   std::vector<double> initial_rotation;         // [rad]
   std::vector<int> outer_of;  // effect 'coaxial': per device its outer device (-1); else empty
@@ -115,6 +116,8 @@ struct SimData {
   EffectCounters effect_calls;
   std::vector<VesselLocation> tips;     // per device: where its distal tip is (with vessels)
   std::vector<DriveWrench> drives;      // per device: what its drive applies (drive_wrench.h)
+  std::vector<DriveStall> stalls;       // per device: what its drive cannot impose (limits reached)
+  std::vector<double> stall_noticed;    // per device: when a stall was last told [s]
   std::vector<Vec3> tip_forces;         // per device: contact force on its last kTipLength [N]
   std::vector<TargetProgress> targets;  // per scene target
   int resting_steps{0};                 // consecutive steps in which nothing moved (SleepOptions)
@@ -162,7 +165,9 @@ VesselLocation locateInVessels(const SceneModel& model, const SimData& data, con
 constexpr double kTipLength = 5e-3;
 
 /// Recomputes data->drives and data->tip_forces from the state and the
-/// contacts (step() does it after every step).
+/// contacts, and data->stalls from the drives and the scene's drive limits
+/// (step() does it after every step: the next step's drives do not move a
+/// device in a direction whose resistance reached the limit).
 void measureForces(const SceneModel& model, SimData* data);
 
 /// Recomputes data->tips and the targets' progress at data->time (step()

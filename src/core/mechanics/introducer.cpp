@@ -69,7 +69,7 @@ std::string validateDriveCommand(const DriveCommand& command, const DeviceModel&
 }
 
 void advanceDrive(const DriveCommand& command, const DeviceModel& model, double dt,
-                  DeviceState* state) {
+                  DeviceState* state, DriveStall stall) {
   if (state->released) return;
   double d_insert, d_rotate;
   if (command.mode == DriveCommand::Mode::kVelocity) {
@@ -81,6 +81,8 @@ void advanceDrive(const DriveCommand& command, const DeviceModel& model, double 
   }
   d_insert = clampAbs(d_insert, model.max_insertion_speed * dt);
   d_rotate = clampAbs(d_rotate, model.max_rotation_speed * dt);
+  if (stall.insertion * d_insert > 0.0) d_insert = 0.0;
+  if (stall.rotation * d_rotate > 0.0) d_rotate = 0.0;
   state->inserted_length = std::clamp(state->inserted_length + d_insert, 0.0, model.length);
   state->rotation_angle += d_rotate;
 }

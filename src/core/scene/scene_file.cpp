@@ -25,12 +25,29 @@ constexpr double kLengthTolerance = 1e-9;   // relative, on lengths compared wit
 constexpr double kMinElementLength = 1e-5;  // [m] max_element_length's floor
 constexpr double kMaxDeviceElements = 1e5;  // per device, after refinement
 
+/// `drive: {max_force: N, max_torque: N m}`: each positive, either omitted
+/// for no limit.
+DriveLimits readDriveLimits(const YamlReader& r, const YAML::Node& n, const std::string& key) {
+  r.keys(n, key, {"max_force", "max_torque"});
+  DriveLimits limits;
+  for (const char* name : {"max_force", "max_torque"}) {
+    if (!n[name]) continue;
+    const double v = r.number(n[name], key + "." + name);
+    if (!(v > 0.0) || !std::isfinite(v))
+      r.fail(n[name], key + "." + name,
+             std::string("must be a positive ") + (name[4] == 'f' ? "force [N]" : "torque [N m]") +
+                 " (omit it for a drive without limit)");
+    (name[4] == 'f' ? limits.max_force : limits.max_torque) = v;
+  }
+  return limits;
+}
+
 DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int index,
                                const fs::path& scene_dir) {
   const std::string p = "devices[" + std::to_string(index) + "].";
   r.keys(n, p.substr(0, p.size() - 1),
          {"file", "name", "inside", "access_point", "insertion_direction", "up", "inserted_length",
-          "rotation", "max_element_length"});
+          "rotation", "max_element_length", "drive"});
   DevicePlacementSpec d;
   const fs::path file = r.text(r.required(n, "file", p + "file"), p + "file");
   d.file = (file.is_absolute() ? file : scene_dir / file).lexically_normal().string();
@@ -89,6 +106,7 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
            "must lie in [0, " + std::to_string(model.length) + "] m (the device's length)");
   d.inserted_length = std::min(d.inserted_length, model.length);
   d.rotation = r.number(n, "rotation", p, 0.0);
+  if (n["drive"]) d.drive = readDriveLimits(r, n["drive"], p + "drive");
   return d;
 }
 

@@ -91,7 +91,8 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
                    std::vector<DeviceState>* next) {
   *next = data->devices;
   for (size_t i = 0; i < model.devices.size(); ++i) {
-    advanceDrive(data->commands[i], model.devices[i], dt, &(*next)[i]);
+    advanceDrive(data->commands[i], model.devices[i], dt, &(*next)[i],
+                 i < data->stalls.size() ? data->stalls[i] : DriveStall{});
     if (model.effects.gravity) ++data->effect_calls.gravity;
     FreeMotionTimes t;
     if (!computeFreeMotion(model.devices[i], model.introducers[i], model.gravity, dt, (*next)[i],
@@ -362,12 +363,63 @@ void locateTips(const SceneModel& model, SimData* data) {
     data->notices.push_back(std::move(notice));
 }
 
+/// The motions a drive cannot impose: a resistance at or beyond its limit.
+DriveStall stallOf(const DriveWrench& w, const DriveLimits& limits) {
+  DriveStall s;
+  s.insertion = w.axial_force >= limits.max_force ? 1 : w.axial_force <= -limits.max_force ? -1 : 0;
+  s.rotation = w.axial_torque >= limits.max_torque    ? 1
+               : w.axial_torque <= -limits.max_torque ? -1
+                                                      : 0;
+  return s;
+}
+
+/// The sense (+1, -1, 0) in which a command moves a drive now.
+int commandedSense(DriveCommand::Mode mode, double command, double current) {
+  const double move = mode == DriveCommand::Mode::kVelocity ? command : command - current;
+  return move > 0.0 ? 1 : move < 0.0 ? -1 : 0;
+}
+
+/// A notice when a drive slips against its command (at most one a second
+/// per device: a drive at its limit slips and holds by turns).
+void noteStall(const SceneModel& model, size_t i, SimData* data) {
+  const DriveStall& now = data->stalls[i];
+  const DriveCommand& c = data->commands[i];
+  const DeviceState& x = data->devices[i];
+  const bool insertion =
+      now.insertion != 0 && now.insertion == commandedSense(c.mode, c.insertion, x.inserted_length);
+  const bool rotation =
+      now.rotation != 0 && now.rotation == commandedSense(c.mode, c.rotation, x.rotation_angle);
+  if (!insertion && !rotation) return;
+  double& last = data->stall_noticed[i];
+  if (data->time - last < 1.0) return;
+  last = data->time;
+  const DriveWrench& w = data->drives[i];
+  std::ostringstream m;
+  m << "t = " << data->time << " s: device '" << model.devices[i].name << "' slips in its drive: ";
+  if (insertion)
+    m << std::abs(w.axial_force) << " N resists its "
+      << (now.insertion > 0 ? "insertion" : "retraction") << " (limit "
+      << model.drive_limits[i].max_force << " N)";
+  if (insertion && rotation) m << ", ";
+  if (rotation)
+    m << std::abs(w.axial_torque) << " N m resists its rotation (limit "
+      << model.drive_limits[i].max_torque << " N m)";
+  m << "; it follows the command again once the resistance falls below the limit";
+  data->notices.push_back(m.str());
+}
+
 void measureForces(const SceneModel& model, SimData* data) {
   const size_t n = model.devices.size();
   data->drives.resize(n);
+  data->stalls.resize(n);
+  data->stall_noticed.resize(n, -std::numeric_limits<double>::infinity());
   data->tip_forces.assign(n, Vec3::Zero());
-  for (size_t i = 0; i < n; ++i)
+  for (size_t i = 0; i < n; ++i) {
     data->drives[i] = driveWrench(model.devices[i], model.introducers[i], data->devices[i]);
+    if (i >= model.drive_limits.size()) continue;
+    data->stalls[i] = stallOf(data->drives[i], model.drive_limits[i]);
+    noteStall(model, i, data);
+  }
   auto atTip = [&](int device, const SamplePoint& s) {
     const DeviceModel& d = model.devices[device];
     return materialCoordinate(d, s) >= d.length - kTipLength;
@@ -432,6 +484,7 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
   for (const auto& d : spec.devices) {
     m.devices.push_back(buildDeviceModel(d.device));
     m.introducers.push_back(d.introducer);
+    m.drive_limits.push_back(d.drive);
     m.initial_inserted_length.push_back(d.inserted_length);
     m.initial_rotation.push_back(d.rotation);
     m.samples.push_back(sampleDevice(m.devices.back(), m.contact.contact_spacing));
