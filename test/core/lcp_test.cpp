@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
 
 #include "endovascular_sim/contact/contact_solver.h"
@@ -137,6 +138,30 @@ TEST(Lcp, WarmStartedStatusMethodFindsTheSameGapsInFewerPivots) {
     EXPECT_LT(warm_stats.iterations, cold_stats.iterations / 2) << seed;
     std::printf("[ metric   ] warm start, seed %d: %d pivots against %d cold\n", seed,
                 warm_stats.iterations, cold_stats.iterations);
+  }
+}
+
+// Two contacts that push a body in opposite directions by the same matrix
+// row, both violated: w1 = z1 - z2 - 1 and w2 = z2 - z1 - 1 sum to -2, so no
+// z >= 0 makes both gaps non-negative (a wire squeezed between two walls
+// closer than its diameter). W is positive semi-definite, so Lemke's ray
+// proves it; Siconos' Lemke fails on it too. The status method's
+// regularised problem has an answer (forces ~ 1 / eps), the problem none:
+// both report it as infeasible, never as solved.
+TEST(Lcp, AnInfeasibleProblemIsReportedAsSuch) {
+  MatX W(2, 2);
+  W << 1.0, -1.0, -1.0, 1.0;
+  const VecX q = VecX::Constant(2, -1.0);
+  VecX reference;
+  EXPECT_NE(test::siconosLcp(W, q, SICONOS_LCP_LEMKE, 1e-12, &reference), 0);
+  for (LcpSolver solver : {LcpSolver::kLemke, LcpSolver::kStatusMethod}) {
+    LcpOptions o;
+    o.solver = solver;
+    VecX z;
+    LcpStats st;
+    EXPECT_EQ(solveLcp(W, q, o, &z, &st), LcpStatus::kInfeasible) << lcpSolverName(solver);
+    std::printf("[ metric   ] infeasible LCP, %s: residual %.3g\n", lcpSolverName(solver),
+                st.residual);
   }
 }
 

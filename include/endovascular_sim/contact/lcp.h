@@ -49,7 +49,19 @@ struct LcpOptions {
   bool warm_start{false};
 };
 
-enum class LcpStatus { kSolved, kIterationLimit, kFailed };
+/// kInfeasible: the problem has no solution, or none the solver can reach:
+/// the status method's answer leaves a natural residual above
+/// kLcpResidualLimit (its regularised problem has an answer, the problem
+/// itself none: forces 1e10 times their scale), or Lemke's method ends on a
+/// ray (for the positive semi-definite W of contacts, a proof that none
+/// exists). Never an answer: the step fails and is subdivided or recovered.
+enum class LcpStatus { kSolved, kIterationLimit, kFailed, kInfeasible };
+
+/// Natural-map residual (relative to |q|) beyond which an answer is not one.
+/// A right support leaves about cond(W) times the machine epsilon: 2e-9 on a
+/// wire lying on a floor (cond 1e9, every gap equal); a wrong one, after
+/// hundreds of pivots' round-off, 0.1-1.
+constexpr double kLcpResidualLimit = 1e-6;
 
 struct LcpStats {
   int iterations{0};          // pivots (status, Lemke) or sweeps (PGS)

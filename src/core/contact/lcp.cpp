@@ -230,7 +230,7 @@ LcpStatus statusMethod(const MatXView& W, const VecX& q, const LcpOptions& o, Ve
       }
       st->residual = best;
       for (int j = 0; j < k; ++j) (*z)(chol.set()[j]) = za(j);
-      return LcpStatus::kSolved;
+      return best <= kLcpResidualLimit ? LcpStatus::kSolved : LcpStatus::kInfeasible;
     }
     if (!chol.add(add)) return LcpStatus::kFailed;
     active[add] = 1;
@@ -260,12 +260,6 @@ LcpStatus pgs(const MatXView& W, const VecX& q, const LcpOptions& o, VecX* z, Lc
 }
 
 /// Lemke's method on the tableau [I, -W, -d | q] (w - W z - d z0 = q).
-/// Natural-map residual (relative to |q|) beyond which Lemke's answer
-/// counts as failed. A right support leaves about cond(W) times the machine
-/// epsilon: 2e-9 on a wire lying on a floor (cond 1e9, every gap equal); a
-/// wrong one, after hundreds of pivots' round-off, 0.1-1.
-constexpr double kLemkeResidualLimit = 1e-6;
-
 LcpStatus lemke(const MatXView& W, const VecX& q, const LcpOptions& o, VecX* z, LcpStats* st) {
   const int c = static_cast<int>(q.size());
   z->setZero(c);
@@ -323,7 +317,7 @@ LcpStatus lemke(const MatXView& W, const VecX& q, const LcpOptions& o, VecX* z, 
         ratio = t;
       }
     }
-    if (best < 0) return LcpStatus::kFailed;  // ray termination
+    if (best < 0) return LcpStatus::kInfeasible;  // ray termination
     leaving = basis[best];
     pivot(best, entering);
     if (leaving == 2 * c) {
@@ -349,7 +343,7 @@ LcpStatus lemke(const MatXView& W, const VecX& q, const LcpOptions& o, VecX* z, 
       // The tableau accumulates round-off over hundreds of pivots (a 673-row
       // LCP of large_step ends at residual 0.29, its support wrong): say so
       // rather than return a wrong answer.
-      return lcpResidual(W, q, *z) <= kLemkeResidualLimit ? LcpStatus::kSolved : LcpStatus::kFailed;
+      return lcpResidual(W, q, *z) <= kLcpResidualLimit ? LcpStatus::kSolved : LcpStatus::kFailed;
     }
   }
   return LcpStatus::kIterationLimit;
