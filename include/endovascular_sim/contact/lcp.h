@@ -49,12 +49,11 @@ struct LcpOptions {
   bool warm_start{false};
 };
 
-/// kInfeasible: the problem has no solution, or none the solver can reach:
-/// the status method's answer leaves a natural residual above
-/// kLcpResidualLimit (its regularised problem has an answer, the problem
-/// itself none: forces 1e10 times their scale), or Lemke's method ends on a
-/// ray (for the positive semi-definite W of contacts, a proof that none
-/// exists). Never an answer: the step fails and is subdivided or recovered.
+/// kInfeasible: Lemke's method ended on a ray, which for the positive
+/// semi-definite W of contacts proves that the problem has no solution.
+/// Never an answer: the step fails and is subdivided or recovered. (The
+/// status method answers the regularised problem W + eps I, which always
+/// has a solution, and reports its natural residual on W in LcpStats.)
 enum class LcpStatus { kSolved, kIterationLimit, kFailed, kInfeasible };
 
 /// Natural-map residual (relative to |q|) beyond which an answer is not one.

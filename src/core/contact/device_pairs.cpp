@@ -22,58 +22,92 @@ Vec3 pairNormal(const Vec3& pa, const Vec3& ta, const Vec3& pb, const Vec3& tb) 
   return across.norm() > 0.0 ? Vec3(across.normalized()) : d.normalized();
 }
 
-/// Pairs of points, at least one of them free, closer than the sum of their
-/// radii plus `margin`, from a grid of cells (sorted keys). On
-/// one device only points more than 2 (r_a + r_b) plus two element lengths
-/// apart along it count (neighbours along a device always touch). Per pair
-/// of elements the closest pair only.
-std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
-                            const std::vector<PointRef>& pts, double margin) {
-  double rmax = 0.0;
-  for (const auto& q : pts) rmax = std::max(rmax, q.r);
-  const double cell = 2.0 * rmax + margin;
-  // Cell key (z, y, x), x least significant: the points sorted by key lie
-  // row by row ((z, y) fixed), each row in x order. A hash of the rows
-  // (open addressing) gives each row's range; the neighbours of a point are
-  // in 9 rows, at x - 1 ... x + 1 (of which the scan below visits half).
-  auto cellOf = [cell](double v) { return static_cast<int64_t>(std::floor(v / cell)) + (1 << 20); };
-  const int n = static_cast<int>(pts.size());
-  std::vector<std::pair<int64_t, int>> sorted(n);  // (cell key, point)
-  for (int i = 0; i < n; ++i)
-    sorted[i] = {cellOf(pts[i].p.z()) << 42 | cellOf(pts[i].p.y()) << 21 | cellOf(pts[i].p.x()), i};
-  std::sort(sorted.begin(), sorted.end());
-  int bits = 4;
-  while ((1 << bits) < 2 * n) ++bits;
-  const uint64_t mask = (uint64_t{1} << bits) - 1;
+namespace {
+
+constexpr int64_t kLow21 = (int64_t{1} << 21) - 1;
+
+/// The points sorted by grid cell, key (z, y, x) with x least significant:
+/// row by row ((z, y) fixed), each row in x order, and an open-addressing
+/// hash from a row's key to its range.
+struct CellRows {
   struct Row {
     int64_t key{-1};  // (z, y)
     int begin{0}, end{0};
   };
-  std::vector<Row> rows(mask + 1);
-  auto slot = [&](int64_t row_key) {
-    uint64_t h = (static_cast<uint64_t>(row_key) * 0x9E3779B97F4A7C15ull) >> (64 - bits);
-    while (rows[h].key != -1 && rows[h].key != row_key) h = (h + 1) & mask;
-    return h;
-  };
-  std::vector<Row> row_list;  // the rows in sorted order
-  for (int k = 0; k < n;) {
-    const int64_t row_key = sorted[k].first >> 21;
-    int e = k;
-    while (e < n && (sorted[e].first >> 21) == row_key) ++e;
-    rows[slot(row_key)] = {row_key, k, e};
-    row_list.push_back({row_key, k, e});
-    k = e;
+  std::vector<std::pair<int64_t, int>> sorted;  // (cell key, point)
+  std::vector<Row> table;                       // the hash
+  std::vector<Row> rows;                        // the rows in sorted order
+  int bits{4};
+
+  CellRows(const std::vector<PointRef>& pts, double cell) {
+    auto cellOf = [cell](double v) {
+      return static_cast<int64_t>(std::floor(v / cell)) + (1 << 20);
+    };
+    const int n = static_cast<int>(pts.size());
+    sorted.resize(n);
+    for (int i = 0; i < n; ++i)
+      sorted[i] = {cellOf(pts[i].p.z()) << 42 | cellOf(pts[i].p.y()) << 21 | cellOf(pts[i].p.x()),
+                   i};
+    std::sort(sorted.begin(), sorted.end());
+    while ((1 << bits) < 2 * n) ++bits;
+    table.resize(size_t{1} << bits);
+    for (int k = 0; k < n;) {
+      const int64_t row_key = sorted[k].first >> 21;
+      int e = k;
+      while (e < n && (sorted[e].first >> 21) == row_key) ++e;
+      table[slot(row_key)] = {row_key, k, e};
+      rows.push_back({row_key, k, e});
+      k = e;
+    }
   }
-  struct Candidate {
-    int64_t elements;  // (device a, element a, device b, element b) packed
-    double distance;
-    int a, b;
-  };
+  size_t slot(int64_t row_key) const {
+    const uint64_t mask = (uint64_t{1} << bits) - 1;
+    uint64_t h = (static_cast<uint64_t>(row_key) * 0x9E3779B97F4A7C15ull) >> (64 - bits);
+    while (table[h].key != -1 && table[h].key != row_key) h = (h + 1) & mask;
+    return h;
+  }
+  /// The row (z, y), or one with key -1.
+  const Row& row(int64_t z, int64_t y) const { return table[slot(z << 21 | y)]; }
+  int64_t x(int k) const { return sorted[k].first & kLow21; }
+};
+
+/// A pair of points within reach, with its pair of elements.
+struct Candidate {
+  int64_t elements;  // (device a, element a, device b, element b) packed
+  double distance;
+  int a, b;
+};
+
+/// Per pair of elements the closest candidate (the first index pair on
+/// ties, as a scan in index order would keep).
+std::vector<Pair> closestPerElementPair(std::vector<Candidate> found) {
+  std::sort(found.begin(), found.end(), [](const Candidate& x, const Candidate& y) {
+    if (x.elements != y.elements) return x.elements < y.elements;
+    if (x.distance != y.distance) return x.distance < y.distance;
+    return x.a != y.a ? x.a < y.a : x.b < y.b;
+  });
+  std::vector<Pair> out;
+  for (size_t k = 0; k < found.size(); ++k)
+    if (k == 0 || found[k].elements != found[k - 1].elements)
+      out.push_back({found[k].a, found[k].b, found[k].distance});
+  return out;
+}
+
+}  // namespace
+
+/// Pairs of points, at least one of them free, closer than the sum of their
+/// radii plus `margin`, from a grid of cells (CellRows). On one device only
+/// points more than 2 (r_a + r_b) plus two element lengths apart along it
+/// count (neighbours along a device always touch). Per pair of elements the
+/// closest pair only.
+std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
+                            const std::vector<PointRef>& pts, double margin) {
+  double rmax = 0.0;
+  for (const auto& q : pts) rmax = std::max(rmax, q.r);
+  const CellRows grid(pts, 2.0 * rmax + margin);
   std::vector<Candidate> found;
-  constexpr int64_t kLow21 = (int64_t{1} << 21) - 1;
-  auto xOf = [&](int k) { return sorted[k].first & kLow21; };
   auto check = [&](int at, int k) {
-    const int i = sorted[at].second, j = sorted[k].second;
+    const int i = grid.sorted[at].second, j = grid.sorted[k].second;
     // a: the lower index (the contact's first point), as a scan in index
     // order would make it.
     const int ia = std::min(i, j), ib = std::max(i, j);
@@ -100,35 +134,23 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
   // itself (a point against the later points of its cell and of x + 1),
   // and with the rows (z, y + 1) and (z + 1, y - 1 ... y + 1), looked up
   // once a row, not once a point.
-  constexpr int kNeighbourRows = 4;
-  constexpr int64_t kRowStep[kNeighbourRows][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
-  for (const Row& row : row_list) {
+  constexpr int64_t kRowStep[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
+  for (const CellRows::Row& row : grid.rows) {
     for (int at = row.begin; at < row.end; ++at)
-      for (int k = at + 1; k < row.end && xOf(k) <= xOf(at) + 1; ++k) check(at, k);
+      for (int k = at + 1; k < row.end && grid.x(k) <= grid.x(at) + 1; ++k) check(at, k);
     const int64_t y = row.key & kLow21, z = row.key >> 21;
     for (const auto& step : kRowStep) {
-      const Row& other = rows[slot((z + step[0]) << 21 | (y + step[1]))];
+      const CellRows::Row& other = grid.row(z + step[0], y + step[1]);
       if (other.key == -1) continue;
       int first = other.begin;  // the first point of the other row at x - 1 or beyond
       for (int at = row.begin; at < row.end; ++at) {
-        const int64_t x = xOf(at);
-        while (first < other.end && xOf(first) < x - 1) ++first;
-        for (int k = first; k < other.end && xOf(k) <= x + 1; ++k) check(at, k);
+        const int64_t x = grid.x(at);
+        while (first < other.end && grid.x(first) < x - 1) ++first;
+        for (int k = first; k < other.end && grid.x(k) <= x + 1; ++k) check(at, k);
       }
     }
   }
-  // Per pair of elements the closest (the first index pair on ties, as a
-  // scan in index order would keep).
-  std::sort(found.begin(), found.end(), [](const Candidate& x, const Candidate& y) {
-    if (x.elements != y.elements) return x.elements < y.elements;
-    if (x.distance != y.distance) return x.distance < y.distance;
-    return x.a != y.a ? x.a < y.a : x.b < y.b;
-  });
-  std::vector<Pair> out;
-  for (size_t k = 0; k < found.size(); ++k)
-    if (k == 0 || found[k].elements != found[k - 1].elements)
-      out.push_back({found[k].a, found[k].b, found[k].distance});
-  return out;
+  return closestPerElementPair(std::move(found));
 }
 
 }  // namespace pairs
