@@ -7,6 +7,43 @@
 
 namespace evsim {
 
+namespace {
+
+/// The element joining the detaching section to the one before it.
+int detachElement(const DeviceSpec& spec) {
+  int before = 0;  // elements before the detaching section
+  size_t k = 0;
+  for (; k < spec.sections.size() && spec.sections[k].name != spec.detach_section; ++k)
+    before += spec.sections[k].elements;
+  if (k == spec.sections.size() || k == 0)
+    throw std::invalid_argument("detach_section '" + spec.detach_section +
+                                "' must name a section after the first");
+  return before - 1;
+}
+
+/// Checks the sections and copies their names and friction data into m;
+/// returns their element count.
+int readSections(const DeviceSpec& spec, DeviceModel* m) {
+  int num_elements = 0;
+  for (const auto& sec : spec.sections) {
+    if (sec.elements < 1 || !(sec.length > 0.0))
+      throw std::invalid_argument("section " + sec.name + " has no length or no elements");
+    num_elements += sec.elements;
+    m->section_names.push_back(sec.name);
+    if (!(sec.friction >= 0.0))
+      throw std::invalid_argument("section " + sec.name + " has a negative friction coefficient");
+    m->section_friction.push_back(sec.friction);
+    if (!(sec.lumen_friction >= 0.0))
+      throw std::invalid_argument("section " + sec.name +
+                                  " has a negative lumen friction coefficient");
+    m->section_lumen_radius.push_back(sec.section.inner_radius);
+    m->section_lumen_friction.push_back(sec.lumen_friction);
+  }
+  return num_elements;
+}
+
+}  // namespace
+
 DeviceModel buildDeviceModel(const DeviceSpec& spec) {
   if (spec.sections.empty()) throw std::invalid_argument("device has no sections");
   DeviceModel m;
@@ -15,33 +52,8 @@ DeviceModel buildDeviceModel(const DeviceSpec& spec) {
   m.max_rotation_speed = spec.max_rotation_speed;
   m.rayleigh_mass = spec.rayleigh_mass;
   m.rayleigh_stiffness = spec.rayleigh_stiffness;
-  if (!spec.detach_section.empty()) {
-    int before = 0;  // elements before the detaching section
-    size_t k = 0;
-    for (; k < spec.sections.size() && spec.sections[k].name != spec.detach_section; ++k)
-      before += spec.sections[k].elements;
-    if (k == spec.sections.size() || k == 0)
-      throw std::invalid_argument("detach_section '" + spec.detach_section +
-                                  "' must name a section after the first");
-    m.detach_element = before - 1;
-  }
-
-  int num_elements = 0;
-  for (const auto& sec : spec.sections) {
-    if (sec.elements < 1 || !(sec.length > 0.0))
-      throw std::invalid_argument("section " + sec.name + " has no length or no elements");
-    num_elements += sec.elements;
-    m.section_names.push_back(sec.name);
-    if (!(sec.friction >= 0.0))
-      throw std::invalid_argument("section " + sec.name + " has a negative friction coefficient");
-    m.section_friction.push_back(sec.friction);
-    if (!(sec.lumen_friction >= 0.0))
-      throw std::invalid_argument("section " + sec.name +
-                                  " has a negative lumen friction coefficient");
-    m.section_lumen_radius.push_back(sec.section.inner_radius);
-    m.section_lumen_friction.push_back(sec.lumen_friction);
-  }
-  m.num_nodes = num_elements + 1;
+  if (!spec.detach_section.empty()) m.detach_element = detachElement(spec);
+  m.num_nodes = readSections(spec, &m) + 1;
   const int n = m.num_nodes;
   m.node_s.assign(n, 0.0);
   m.node_mass.assign(n, 0.0);

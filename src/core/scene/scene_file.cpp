@@ -309,6 +309,51 @@ SleepOptions readSleep(const YamlReader& r, const YAML::Node& n) {
   return o;
 }
 
+/// `effects:`, each a known effect's name.
+std::vector<std::string> readEffects(const YamlReader& r, const YAML::Node& e) {
+  if (!e.IsSequence()) r.fail(e, "effects", "must be a list of effect names");
+  std::vector<std::string> effects;
+  for (size_t i = 0; i < e.size(); ++i) {
+    const std::string name = r.text(e[i], "effects");
+    const auto& known = knownEffects();
+    if (std::find(known.begin(), known.end(), name) == known.end()) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      r.fail(e[i], "effects", "unknown effect '" + name + "' (known: " + list + ")");
+    }
+    effects.push_back(name);
+  }
+  return effects;
+}
+
+/// `devices:` into s->devices (after its effects and vessels): names used
+/// once, `inside` only with the effect 'coaxial', which needs one.
+void readDevices(const YamlReader& r, const YAML::Node& root, const fs::path& scene_dir,
+                 SceneSpec* s) {
+  const YAML::Node devices = r.required(root, "devices", "devices");
+  if (!devices.IsSequence() || devices.size() == 0)
+    r.fail(devices, "devices", "must be a non-empty list");
+  const bool coaxial =
+      std::find(s->effects.begin(), s->effects.end(), "coaxial") != s->effects.end();
+  bool any_inside = false;
+  for (size_t i = 0; i < devices.size(); ++i) {
+    const std::string key = "devices[" + std::to_string(i) + "]";
+    s->devices.push_back(readDevice(r, devices[i], static_cast<int>(i), scene_dir));
+    if (s->devices.back().at_inlet && !s->vessels.present)
+      r.fail(devices[i]["access_point"], key + ".access_point", "inlet needs vessels");
+    for (size_t j = 0; j < i; ++j)
+      if (s->devices[j].device.name == s->devices[i].device.name)
+        r.fail(devices[i], key + ".name",
+               "device name '" + s->devices[i].device.name + "' is used twice");
+    if (s->devices[i].inside.empty()) continue;
+    if (!coaxial) r.fail(devices[i]["inside"], key + ".inside", "needs the effect 'coaxial'");
+    resolveOuterDevice(r, devices[i], static_cast<int>(i), s);
+    any_inside = true;
+  }
+  if (coaxial && !any_inside)
+    r.fail(root["effects"], "effects", "'coaxial' needs a device with 'inside: OUTER'");
+}
+
 SceneSpec readSceneFile(const std::string& path) {
   const YamlReader r(path);
   const YAML::Node root = r.load();
@@ -324,20 +369,7 @@ SceneSpec readSceneFile(const std::string& path) {
   if (!(s.time_step > 0.0 && s.time_step <= kMaxTimeStep))
     r.fail(root["time_step"], "time_step", "must lie in (0, 0.04] s");
 
-  if (root["effects"]) {
-    const YAML::Node e = root["effects"];
-    if (!e.IsSequence()) r.fail(e, "effects", "must be a list of effect names");
-    for (size_t i = 0; i < e.size(); ++i) {
-      const std::string name = r.text(e[i], "effects");
-      const auto& known = knownEffects();
-      if (std::find(known.begin(), known.end(), name) == known.end()) {
-        std::string list;
-        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-        r.fail(e[i], "effects", "unknown effect '" + name + "' (known: " + list + ")");
-      }
-      s.effects.push_back(name);
-    }
-  }
+  if (root["effects"]) s.effects = readEffects(r, root["effects"]);
   if (root["gravity"]) s.gravity = r.vector3(root["gravity"], "gravity");
 
   const fs::path scene_dir = fs::path(path).parent_path();
@@ -352,29 +384,7 @@ SceneSpec readSceneFile(const std::string& path) {
   if (moves && s.vessels.motion.empty())
     r.fail(root["effects"], "effects", "'vessel_motion' needs vessels.motion regions");
 
-  const YAML::Node devices = r.required(root, "devices", "devices");
-  if (!devices.IsSequence() || devices.size() == 0)
-    r.fail(devices, "devices", "must be a non-empty list");
-  const bool coaxial = std::find(s.effects.begin(), s.effects.end(), "coaxial") != s.effects.end();
-  bool any_inside = false;
-  for (size_t i = 0; i < devices.size(); ++i) {
-    s.devices.push_back(readDevice(r, devices[i], static_cast<int>(i), scene_dir));
-    if (s.devices.back().at_inlet && !s.vessels.present)
-      r.fail(devices[i]["access_point"], "devices[" + std::to_string(i) + "].access_point",
-             "inlet needs vessels");
-    for (size_t j = 0; j < i; ++j)
-      if (s.devices[j].device.name == s.devices[i].device.name)
-        r.fail(devices[i], "devices[" + std::to_string(i) + "].name",
-               "device name '" + s.devices[i].device.name + "' is used twice");
-    if (s.devices[i].inside.empty()) continue;
-    if (!coaxial)
-      r.fail(devices[i]["inside"], "devices[" + std::to_string(i) + "].inside",
-             "needs the effect 'coaxial'");
-    resolveOuterDevice(r, devices[i], static_cast<int>(i), &s);
-    any_inside = true;
-  }
-  if (coaxial && !any_inside)
-    r.fail(root["effects"], "effects", "'coaxial' needs a device with 'inside: OUTER'");
+  readDevices(r, root, scene_dir, &s);
 
   if (root["script"]) {
     const YAML::Node script = root["script"];
