@@ -65,6 +65,7 @@ endovascular_sim::StepStats toStepStatsMsg(const FrameSnapshot& f, const LoopTim
   m.lcp_residual = s.lcp_residual;
   m.subdivisions = static_cast<uint32_t>(s.subdivisions);
   m.asleep = s.asleep;
+  for (const DriveStall& stall : f.stalls) m.stalled_drives += stall.any() ? 1 : 0;
   m.max_penetration = s.max_penetration_m;
   m.steps_per_frame = static_cast<uint32_t>(timing.steps_per_frame);
   m.frame_ms = timing.frame_ms;
