@@ -35,6 +35,24 @@ int nodeBehindTip(const DeviceModel& m, double back) {
   return i;
 }
 
+/// Path length [m] from a tip `depth` along the first vessel of `path` to
+/// `target_depth` inside its last: along each vessel to the next junction.
+double pathLeft(const VesselAtlas& atlas, const std::vector<int>& path, double depth,
+                double target_depth) {
+  double remaining = 0.0, s = depth;
+  for (size_t i = 0; i + 1 < path.size(); ++i) {
+    const NamedVessel& next = atlas.vessels()[path[i + 1]];
+    if (next.parent == path[i]) {  // down into a branch
+      remaining += std::abs(s - next.origin_depth);
+      s = 0.0;
+    } else {  // up into the parent
+      remaining += s;
+      s = atlas.vessels()[path[i]].origin_depth;
+    }
+  }
+  return remaining + std::max(0.0, target_depth - s);
+}
+
 }  // namespace
 
 Autopilot::Autopilot(const SceneModel& model, const SimData& data, const std::string& target,
@@ -80,6 +98,10 @@ Autopilot::Autopilot(const SceneModel& model, const SimData& data, const std::st
   next_tick_ = data.time;
   progress_time_ = data.time;
   current_vessel_ = entry_vessel_;
+  // From the start, not from the first control tick: a client's first
+  // feedback may come before the first step.
+  report_.remaining_path = pathLeft(atlas, atlas.path(entry_vessel_, target_),
+                                    data.tips.at(lead_).depth, options_.depth);
 }
 
 std::string Autopilot::setPhase(AutopilotPhase phase, const std::string& why, double t) {
@@ -174,28 +196,6 @@ double Autopilot::tipBendAngle(const SceneModel& model, const SimData& data, int
   w.normalize();
   return std::atan2(shaft.dot(bend.cross(w)), bend.dot(w));
 }
-
-namespace {
-
-/// Path length [m] from a tip `depth` along the first vessel of `path` to
-/// `target_depth` inside its last: along each vessel to the next junction.
-double pathLeft(const VesselAtlas& atlas, const std::vector<int>& path, double depth,
-                double target_depth) {
-  double remaining = 0.0, s = depth;
-  for (size_t i = 0; i + 1 < path.size(); ++i) {
-    const NamedVessel& next = atlas.vessels()[path[i + 1]];
-    if (next.parent == path[i]) {  // down into a branch
-      remaining += std::abs(s - next.origin_depth);
-      s = 0.0;
-    } else {  // up into the parent
-      remaining += s;
-      s = atlas.vessels()[path[i]].origin_depth;
-    }
-  }
-  return remaining + std::max(0.0, target_depth - s);
-}
-
-}  // namespace
 
 std::string Autopilot::retryWhy(const VesselAtlas& atlas, const std::vector<int>& plan,
                                 const std::vector<int>& path, const VesselLocation& at,
