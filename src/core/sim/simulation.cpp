@@ -239,9 +239,6 @@ void sleepingStep(SimData* data) {
   for (const Contact& c : data->contacts) data->stats.active_contacts += c.force > 0.0;
 }
 
-/// Every device's access point lies in a lumen wide enough for it: else the
-/// first step fails with the device beyond the wall; refused at load with
-/// the distance to the wall.
 /// The radii [m] of every sample point: the widths detection evaluates the
 /// vessel field for.
 std::vector<double> sampleRadii(const std::vector<std::vector<SamplePoint>>& samples) {
@@ -252,6 +249,9 @@ std::vector<double> sampleRadii(const std::vector<std::vector<SamplePoint>>& sam
   return radii;
 }
 
+/// Every device's access point lies in a lumen wide enough for it: else the
+/// first step fails with the device beyond the wall; refused at load with
+/// the distance to the wall.
 void checkAccessPoints(const SceneSpec& spec, const VesselField* vessels) {
   if (!vessels) return;
   for (size_t i = 0; i < spec.devices.size(); ++i) {
