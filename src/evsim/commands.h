@@ -43,10 +43,11 @@ int benchScene(const BenchOptions& options);
 
 struct NavigateOptions {
   std::string scene;
-  std::string target;     // a vessel name of the scene
-  std::string device;     // whose tip must reach it ("": the innermost device)
-  double timeout{90.0};   // [s] simulated
-  bool json_only{false};  // only the JSON summary on stdout
+  std::string target;      // a vessel name of the scene
+  std::string device;      // whose tip must reach it ("": the innermost device)
+  double timeout{90.0};    // [s] simulated
+  bool json_only{false};   // only the JSON summary on stdout
+  std::string steps_json;  // a file for one JSON line per step (as `evsim run --json`)
 };
 /// `evsim navigate`: the autopilot drives the scene's devices to a vessel; a
 /// line per phase and a JSON summary. Exit 0 when reached, 1 when not.

@@ -112,6 +112,8 @@ void addNavigate(CLI::App& app, NavigateOptions* o) {
   nav->add_option("--timeout", o->timeout, "simulated seconds before giving up")
       ->check(CLI::Range(0.01, 3600.0));
   nav->add_flag("--quiet", o->json_only, "print only the JSON summary");
+  nav->add_option("--steps-json", o->steps_json,
+                  "write one JSON line per step to this file (the fields of evsim run --json)");
 }
 
 int dispatch(int argc, char** argv) {

@@ -1,14 +1,26 @@
 // `evsim navigate`: the autopilot (sim/autopilot.h) headless: a line per
 // phase, then the summary as one JSON object, on stdout.
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 
 #include "commands.h"
 #include "endovascular_sim/sim/autopilot.h"
+#include "output_paths.h"
+#include "step_json.h"
 
 namespace evsim {
 
 int navigateScene(const NavigateOptions& o) {
+  std::ofstream steps;
+  if (!o.steps_json.empty()) {
+    const std::string why = checkWritableFile(o.steps_json);
+    if (!why.empty()) {
+      std::cerr << "evsim: --steps-json: " << why << "\n";
+      return kExitBadInput;
+    }
+    steps.open(o.steps_json);
+  }
   const SceneModel model = loadScene(o.scene);  // LoadError: main reports it
   SimData data = makeData(model);
   AutopilotOptions options;
@@ -23,9 +35,13 @@ int navigateScene(const NavigateOptions& o) {
               << atlas.vessels()[pilot.target()].name << " (" << plan << ")\n";
   }
   // (pilot: the plan and names; the run steps its own from the same state)
-  const AutopilotReport r =
-      runAutopilot(model, &data, o.target, o.device, options, [&](const std::string& line) {
+  const AutopilotReport r = runAutopilot(
+      model, &data, o.target, o.device, options,
+      [&](const std::string& line) {
         if (!o.json_only) std::cout << line << "\n";
+      },
+      [&](const SimData& stepped) {
+        if (steps.is_open()) steps << stepJson(model, stepped) << "\n";
       });
   char json[512];
   std::snprintf(json, sizeof(json),

@@ -135,10 +135,28 @@ TEST(EvsimCli, NavigateRefusesAnUnknownTargetAndReportsAReachedOne) {
   EXPECT_EQ(missing.code, 2);
   EXPECT_TRUE(says(missing, "--target")) << missing.output;
   // Out of time before the arch: "not reached", with the reason, exit 1.
-  const Outcome early = evsim("navigate arch_navigation --target left_subclavian --timeout 0.2");
+  // With every step written: one JSON line per step, as evsim run --json.
+  const std::string steps = ::testing::TempDir() + "/navigate_steps.json";
+  const Outcome early = evsim("navigate arch_navigation --target left_subclavian --timeout 0.2 " +
+                              std::string("--steps-json ") + steps);
   EXPECT_EQ(early.code, 1) << early.output;
   EXPECT_TRUE(says(early, "\"reached\":false")) << early.output;
   EXPECT_TRUE(says(early, "\"reason\":\"out of time\"")) << early.output;
+  std::ifstream lines(steps);
+  std::string line, last;
+  int count = 0;
+  while (std::getline(lines, line)) {
+    EXPECT_EQ(line.rfind("{\"step\":" + std::to_string(count + 1) + ",", 0), 0u) << line;
+    ++count;
+    last = line;
+  }
+  EXPECT_GE(count, 200);  // the timeout's steps (and the one that ends the run)
+  EXPECT_LE(count, 202);
+  EXPECT_NE(last.find("\"tip_vessel\""), std::string::npos) << last;
+  const Outcome unwritable =
+      evsim("navigate arch_navigation --target left_subclavian --steps-json /proc/nowhere/x.json");
+  EXPECT_EQ(unwritable.code, 2) << unwritable.output;
+  EXPECT_TRUE(says(unwritable, "--steps-json")) << unwritable.output;
   const Outcome reached = evsim("navigate arch_navigation --target left_subclavian --quiet");
   EXPECT_EQ(reached.code, 0) << reached.output;
   EXPECT_TRUE(says(reached, "\"reached\":true")) << reached.output;

@@ -155,6 +155,18 @@ TEST_F(Loader, DriveLimitsAreReadAndChecked) {
       "scene.yaml", 10, "devices[0].drive.max_forse", "max_force");
 }
 
+TEST_F(Loader, LumenSettleIsReadAndChecked) {
+  write("wire.urdf", kDevice);
+  std::string text = kScene;
+  text.replace(text.find("effects: [gravity]\n"), 19,
+               "effects: [gravity]\ncontact: {lumen_settle: 0.01}\n");
+  EXPECT_EQ(loadSceneFile(write("scene.yaml", text)).contact.lumen_settle, 0.01);
+  EXPECT_EQ(loadSceneFile(write("plain.yaml", kScene)).contact.lumen_settle, 0.03);
+  expectNames(
+      sceneError("effects: [gravity]\n", "effects: [gravity]\ncontact: {lumen_settle: 2}\n"),
+      "scene.yaml", 4, "contact", "lumen_settle must lie in [1e-4, 1]");
+}
+
 TEST_F(Loader, MissingFieldIsNamed) {
   expectNames(deviceError("young_modulus=\"6e10\" ", ""), "wire.urdf", 15,
               "evsim_section[shaft]/young_modulus", "is missing");

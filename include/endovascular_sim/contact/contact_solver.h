@@ -59,7 +59,11 @@ struct ContactOptions {
   int curvature_loops{1000};           // loops that update C (then A + C and its band are kept)
   bool interior_balls{true};           // spare evaluations in certified balls (sample_fields.h)
   bool detect_on_first_iterate{true};  // with kept contacts, detect on x_t -> x_1, not -> x_f
-  FrictionOptions friction_solver;     // its tolerance and sweep limit
+  double lumen_settle{0.03};  // effect 'coaxial': the loop goes on while a point held by the
+                              // lumen's curvature slid more than this fraction of the clearance
+                              // since the loop's anchor: what that leaves is a force below this
+                              // fraction of the contact's (docs/model.md, "Coaxial devices") [-]
+  FrictionOptions friction_solver;  // its tolerance and sweep limit
 };
 
 /// Why the options are out of range ("" when they are valid).
@@ -94,9 +98,9 @@ struct ContactStats {
   int sliding_contacts{0};  // effect 'friction': on the cone's boundary
   int friction_solves{0};   // frictional problems solved (effect 'friction')
   int activation_loops{0};
-  int lcp_iterations{0};          // summed over the loops
-  double lcp_residual{0.0};       // natural-map residual of the last LCP
-  double max_penetration_m{0.0};  // deepest sample point beyond the wall at the end [m]
+  int lcp_iterations{0};                     // summed over the loops
+  double lcp_residual{0.0};                  // natural-map residual of the last LCP
+  double max_penetration_m{0.0};             // deepest sample point beyond the wall at the end [m]
   LcpStatus lcp_status{LcpStatus::kSolved};  // not kSolved: the loop stopped at a failed LCP
   int tunnelled{0};  // loop iterates inside a vessel whose path from x_t crossed a wall
   double detection_ms{0.0};

@@ -154,9 +154,11 @@ class Autopilot {
 /// navigate` does: a step the scene's options cannot solve is tried once
 /// more with the recovery options (stepOrRecover); a step that fails even
 /// so ends the run (counted in failed_steps). `on_line` gets each phase line
-/// and each recovery. Throws LoadError for a target the autopilot refuses.
+/// and each recovery; `on_step` the data after each step. Throws LoadError
+/// for a target the autopilot refuses.
 AutopilotReport runAutopilot(const SceneModel& model, SimData* data, const std::string& target,
                              const std::string& device = "", const AutopilotOptions& options = {},
-                             const std::function<void(const std::string&)>& on_line = {});
+                             const std::function<void(const std::string&)>& on_line = {},
+                             const std::function<void(const SimData&)>& on_step = {});
 
 }  // namespace evsim

@@ -11,6 +11,7 @@
 //   contact_solver.cpp  the loop itself and the LCP (or frictional) solve
 #pragma once
 
+#include <Eigen/Cholesky>
 #include <array>
 #include <chrono>
 #include <map>
@@ -39,6 +40,23 @@ constexpr int kChainDelassusMinRows = 16;
 /// band of A^-1, of (A + C)^-1.
 enum class Band { kNone, kOfA, kOfCurved };
 
+/// A part of a row of H on one device: (row, element, signed row of H).
+struct RowPart {
+  int row, element;
+  Row12 h;
+};
+
+/// A row of the lumen's curvature (lumen_curvature.cpp): across the outer
+/// axis at a lumen contact, on the inner point (part 0) and the outer axis
+/// point (part 1, negated), of stiffness k = lambda / rho.
+struct LumenSpring {
+  std::array<RowPart, 2> part;
+  std::array<int, 2> device;
+  std::array<int, 2> first_free_node;  // of each part's device
+  double rho;                          // the clearance [m]
+  double k;                            // [N/m]
+};
+
 /// What the activation loop of one step carries from loop to loop.
 struct LoopState {
   LoopState(const ContactProblem& pb, std::vector<Contact>* contacts);
@@ -58,6 +76,7 @@ struct LoopState {
   std::vector<char> curved;                        // device d steps with A + C
   std::vector<std::vector<ContactRow>> last_rows;  // rows of the last loop that used the band
   std::vector<DelassusBuffer> last_W;              // and its W (reused while the band stays)
+  std::vector<VecX> anchor;                        // dq_k: the iterate the loop's QP is about
 };
 
 /// One loop's linear problem: W lambda + q >= 0 (with friction, the
@@ -74,6 +93,12 @@ struct LoopSystem {
   std::vector<std::vector<int>> of_device;       // rows with a part on each device
   std::vector<std::vector<ContactRow>> rows_of;  // their rows of H, per device
   std::vector<MatX> Y;                           // A^-1 H^T where W came from the block solve
+  // The lumen's curvature: r rows after the m of the contacts, eliminated
+  // from W and q (lumen_curvature.cpp).
+  std::vector<LumenSpring> springs;
+  VecX e;              // R (dq_k - dq_step) [m]
+  MatX W_HR;           // m x r
+  Eigen::LLT<MatX> S;  // K^-1 + W_RR
   MatXView W() const { return W_device ? W_device->view() : MatXView(W_sum); }
 };
 
@@ -123,6 +148,23 @@ bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState
 /// (C updated in the first curvature_loops loops).
 void prepareFreeMotion(const ContactProblem& pb, const ContactOptions& o, int loop, LoopState* s,
                        LoopSystem* sys);
+
+// --- lumen_curvature.cpp -----------------------------------------------------
+
+/// The lumen's curvature rows at x of the lumen contacts with a force (none
+/// without options.wall_curvature), their parts appended to `parts` as rows
+/// m, m + 1, ... and sys->e.
+void addLumenSprings(const ContactProblem& pb, const ContactOptions& o, const LoopState& s,
+                     LoopSystem* sys, std::vector<std::vector<RowPart>>* parts);
+/// Eliminates the springs' rows from W (m + r square, W_sum or W_device) and
+/// q: W <- W_HH - W_HR S^-1 W_RH, q <- q + W_HR S^-1 e, S = K^-1 + W_RR.
+void eliminateLumenSprings(LoopSystem* sys);
+/// The springs' forces for the contacts' lambda: S^-1 (e - W_RH lambda).
+VecX lumenSpringForces(const LoopSystem& sys, const VecX& lambda);
+/// True when the springs leave no spurious force: each one's slide across
+/// the lumen, relative to the outer device, since the QP's anchor is within
+/// `settle` of its clearance (options.lumen_settle).
+bool lumenSpringsSettled(const LoopSystem& sys, const LoopState& s, double settle);
 /// The rows of H and q, linearised at x: g(x_f + A^-1 H^T lambda) ~ g(x) +
 /// H (x_f - x) + W lambda; then W = H A^-1 H^T per device.
 void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopState* s,

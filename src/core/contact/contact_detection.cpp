@@ -287,28 +287,48 @@ void addLumen(const ContactProblem& pb, const LumenViolation& v, LoopState* s) {
   s->contacts->push_back(lumenContact(v, outerOf(pb, v.device)));
 }
 
-/// Inner devices' points beyond their outer device's lumen at x_f, and the
-/// lumen contacts of the previous step that carried a force.
-void detectLumenContacts(const ContactProblem& pb, LoopState* s) {
+/// A lumen contact of the previous step that starts this one: it carried a
+/// force or ended touching (gap within `touching` [m]), and its inner
+/// device is still in the same outer device.
+bool keptLumenContact(const ContactProblem& pb, const Contact& prev, double touching) {
+  if (!prev.lumen || prev.device >= static_cast<int>(pb.devices->size())) return false;
+  if (!(prev.force > 0.0) && !(std::abs(prev.gap) <= touching)) return false;
+  return outerOf(pb, prev.device) == prev.other_device;
+}
+
+/// Effect 'coaxial': the lumen contacts of the previous step that carried a
+/// force or touched, their planes where their points lie at x_t (like the
+/// wall's, below); without such contacts, the inner devices' points beyond
+/// their outer device's lumen at x_f (per inner element the deepest).
+/// Points beyond the lumen later are found by the loop's passes at x. Why
+/// not at x_f when contacts are kept: a wire held bent in a pre-shaped
+/// catheter springs millimetres across the lumen in the free motion, and
+/// planes taken there, far from where the loop ends, are dozens of rows that
+/// hold nothing (arch_navigation_headhunter at rest: 147 rows and 10 loops a
+/// step, against 9 rows asleep).
+void detectLumenContacts(const ContactProblem& pb, double touching, LoopState* s) {
   const auto& devices = *pb.devices;
   const auto& samples = *pb.samples;
   const auto& start = *pb.start;
-  const std::vector<DeviceState>& xf = s->xf;
-  for (const LumenViolation& v : lumenViolations(pb, xf, 0.0, true)) addLumen(pb, v, s);
-  if (!pb.previous) return;
-  for (const Contact& prev : *pb.previous) {
-    if (!prev.lumen || prev.force <= 0.0 || prev.device >= static_cast<int>(devices.size()) ||
-        outerOf(pb, prev.device) != prev.other_device)
-      continue;
-    const int d = prev.device, k = prev.sample, outer = prev.other_device;
-    const SamplePoint& sp = samples[d][k];
-    if (s->lumen_contact.count({d, k}) || !takesPart(pb, d, sp) || detached(start[d], sp)) continue;
-    const LumenViolation v{d, k, locateInLumen(devices[d], xf[d], sp, devices[outer], xf[outer])};
-    if (!v.location.inside || v.location.across.norm() == 0.0) continue;
-    addLumen(pb, v, s);
-    s->contacts->back().force = prev.force;  // the friction solver's warm start
-    s->contacts->back().friction = prev.friction;
+  bool kept = false;
+  if (pb.previous) {
+    for (const Contact& prev : *pb.previous) {
+      if (!keptLumenContact(pb, prev, touching)) continue;
+      const int d = prev.device, k = prev.sample, outer = prev.other_device;
+      const SamplePoint& sp = samples[d][k];
+      if (s->lumen_contact.count({d, k}) || !takesPart(pb, d, sp) || detached(start[d], sp))
+        continue;
+      const LumenViolation v{d, k,
+                             locateInLumen(devices[d], start[d], sp, devices[outer], start[outer])};
+      if (!v.location.inside || v.location.across.norm() == 0.0) continue;
+      addLumen(pb, v, s);
+      s->contacts->back().force = prev.force;  // the friction solver's warm start
+      s->contacts->back().friction = prev.friction;
+      kept = true;
+    }
   }
+  if (kept) return;
+  for (const LumenViolation& v : lumenViolations(pb, s->xf, 0.0, true)) addLumen(pb, v, s);
 }
 
 /// The plane for a point of device d, sample k, found beyond the wall at p
@@ -474,7 +494,7 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
   }
   if (pb.outer_of && !pb.outer_of->empty()) {  // effect 'coaxial'
     const auto tl = Clock::now();
-    detectLumenContacts(pb, s);
+    detectLumenContacts(pb, o.penetration_tolerance, s);
     ++st->lumen_passes;
     st->lumen_ms += msSince(tl);
   }

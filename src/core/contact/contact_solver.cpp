@@ -30,6 +30,8 @@ std::string validateContactOptions(const ContactOptions& o) {
     why << "contact_spacing must lie in [1e-5, 0.05] m";
   else if (!(o.penetration_tolerance >= 1e-9 && o.penetration_tolerance <= 1e-3))
     why << "penetration_tolerance must lie in [1e-9, 1e-3] m";
+  else if (!(o.lumen_settle >= 1e-4 && o.lumen_settle <= 1.0))
+    why << "lumen_settle must lie in [1e-4, 1]";
   else if (!(o.root.tolerance > 0.0 && o.root.tolerance <= 1e-6))
     why << "root tolerance must lie in (0, 1e-6] m";
   else if (!(o.friction_solver.tolerance > 0.0 && o.friction_solver.tolerance <= 1e-2))
@@ -214,6 +216,10 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     // aneurysm; later loops bring them back). Such a point gets the wall
     // where it left as a new plane, and the loop goes on.
     if (solved) solved = checkTunnels(pb, o, &field, &s, st);
+    // The lumen's curvature term has left no spurious force (within the
+    // last loop's, whatever is left stands: no point is beyond a wall).
+    if (solved && loop < o.max_activation_loops)
+      solved = lumenSpringsSettled(sys, s, o.lumen_settle);
     st->detection_ms += msSince(t0);
   }
 

@@ -30,6 +30,7 @@ bool sameRow(const ContactRow& a, const ContactRow& b) {
     if (a.offset[k] != b.offset[k] || a.h[k] != b.h[k]) return false;
   return true;
 }
+
 /// C (contact/wall_curvature.h) of the wall contacts with a force, per
 /// device; A + C into the workspace's `curved_system`. (*curved)[d] says
 /// whether device d has such a term (else A alone). A + C is factorised
@@ -53,20 +54,8 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
     ++rows[ct.device];
     if (ct.other_device >= 0 && ct.other_device != ct.device) ++rows[ct.other_device];
   }
-  for (const Contact& ct : contacts) {
-    if (ct.other_device >= 0 || !(ct.force > 0.0)) continue;
-    const int d = ct.device;
-    const SamplePoint& s = samples[d][ct.sample];
-    const int e = s.element;
-    if (e + 1 < ws[d].first_free_node) continue;  // both nodes held
-    std::array<Vec3, 2> t;
-    const Eigen::Matrix2d S =
-        wallCurvature(*pb.surface, ct.point, ct.normal, s.radius, pb.motion, &t);
-    if (S.isZero(0.0)) continue;
-    Eigen::Matrix<double, 2, 12> R;
-    R.row(0) = contactRow(devices[d], x[d], s, t[0]);
-    R.row(1) = contactRow(devices[d], x[d], s, t[1]);
-    const Eigen::Matrix<double, 12, 12> Ce = ct.force * R.transpose() * S * R;
+  // Adds Ce (on the nodes of element e of device d) to C.
+  auto add = [&](int d, int e, const Eigen::Matrix<double, 12, 12>& Ce) {
     ChainMatrix& Cd = (*C)[d];
     if (Cd.numBlocks() == 0) {
       Cd.resize(devices[d].num_nodes);
@@ -75,6 +64,22 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
     Cd.diag[e] += Ce.topLeftCorner<6, 6>();
     Cd.diag[e + 1] += Ce.bottomRightCorner<6, 6>();
     Cd.upper[e] += Ce.topRightCorner<6, 6>();
+  };
+  for (const Contact& ct : contacts) {
+    if (!(ct.force > 0.0)) continue;
+    const int d = ct.device;
+    const SamplePoint& s = samples[d][ct.sample];
+    const int e = s.element;
+    if (ct.other_device >= 0) continue;           // (the lumen's: lumen_curvature.cpp)
+    if (e + 1 < ws[d].first_free_node) continue;  // both nodes held
+    std::array<Vec3, 2> t;
+    const Eigen::Matrix2d S =
+        wallCurvature(*pb.surface, ct.point, ct.normal, s.radius, pb.motion, &t);
+    if (S.isZero(0.0)) continue;
+    Eigen::Matrix<double, 2, 12> R;
+    R.row(0) = contactRow(devices[d], x[d], s, t[0]);
+    R.row(1) = contactRow(devices[d], x[d], s, t[1]);
+    add(d, e, ct.force * R.transpose() * S * R);
   }
   for (size_t d = 0; d < nd; ++d) {
     DeviceWorkspace& w = ws[d];
@@ -131,6 +136,11 @@ void prepareFreeMotion(const ContactProblem& pb, const ContactOptions& o, int lo
   sys->factor.resize(nd);
   sys->dq_step = s->dq_free;
   for (size_t d = 0; d < nd; ++d) sys->factor[d] = &ws[d].factor;
+  // The QP is taken about dq_k: x_t in the first loop, later the last
+  // iterate (wall_curvature.h); the lumen's curvature rows too.
+  s->anchor = s->dq;
+  if (loop == 1)
+    for (VecX& a : s->anchor) a.setZero();
   if (!o.wall_curvature || !pb.surface) return;
   // C from the last loop's forces for the first curvature_loops loops;
   // later loops keep it (and the band of (A + C)^-1): at the answer
@@ -145,28 +155,14 @@ void prepareFreeMotion(const ContactProblem& pb, const ContactOptions& o, int lo
       }
     }
   }
-  // The first loop's QP is taken about x_t, later ones about the last
-  // iterate (wall_curvature.h).
-  if (loop == 1) {
-    std::vector<VecX> at_start = s->dq;
-    for (VecX& v : at_start) v.setZero();
-    curvedFreeMotion(pb, s->curvature, s->curved, s->band, at_start, &sys->dq_step, &sys->factor);
-    return;
-  }
-  curvedFreeMotion(pb, s->curvature, s->curved, s->band, s->dq, &sys->dq_step, &sys->factor);
+  curvedFreeMotion(pb, s->curvature, s->curved, s->band, s->anchor, &sys->dq_step, &sys->factor);
 }
 
 namespace {
 
-/// A part of a row of H on one device: (row, element, signed row of H).
-struct Part {
-  int row, element;
-  Row12 h;
-};
-
 /// The rows of H and q at x, as parts per device.
 void formRows(const ContactProblem& pb, const ContactOptions& o, const LoopState& s,
-              LoopSystem* sys, std::vector<std::vector<Part>>* parts) {
+              LoopSystem* sys, std::vector<std::vector<RowPart>>* parts) {
   const auto& devices = *pb.devices;
   const auto& start = *pb.start;
   const auto& samples = *pb.samples;
@@ -217,11 +213,11 @@ void formRows(const ContactProblem& pb, const ContactOptions& o, const LoopState
 
 /// Device d's rows of H (a self contact's two parts in one row), in the
 /// order of their first part; (*of_device) their rows in the problem.
-void deviceRows(const std::vector<Part>& parts, int first_free_node, int m,
+void deviceRows(const std::vector<RowPart>& parts, int first_free_node, int m,
                 std::vector<int>* column_of_row, std::vector<int>* of_device,
                 std::vector<ContactRow>* device_rows) {
   column_of_row->assign(m, -1);  // row -> its column in this device's operator
-  for (const Part& pt : parts) {
+  for (const RowPart& pt : parts) {
     const Row12& h = pt.h;
     const int offset = 6 * (pt.element - first_free_node);
     int& column = (*column_of_row)[pt.row];
@@ -282,21 +278,24 @@ void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopS
   sys->q.resize(m);
   sys->mu.resize(o.friction ? sys->c : 0);
   if (o.friction) sys->tangents.resize(sys->c);
-  std::vector<std::vector<Part>> parts(nd);
+  std::vector<std::vector<RowPart>> parts(nd);
   formRows(pb, o, *s, sys, &parts);
+  addLumenSprings(pb, o, *s, sys, &parts);  // rows m, m + 1, ...: eliminated below
+  const int rows = m + static_cast<int>(sys->springs.size());
   sys->of_device.assign(nd, {});
   sys->rows_of.assign(nd, {});
   sys->Y.assign(nd, MatX());
   std::vector<int> column_of_row;
   for (size_t d = 0; d < nd; ++d) {
     if (parts[d].empty()) continue;
-    deviceRows(parts[d], (*pb.workspaces)[d].first_free_node, m, &column_of_row, &sys->of_device[d],
-               &sys->rows_of[d]);
+    deviceRows(parts[d], (*pb.workspaces)[d].first_free_node, rows, &column_of_row,
+               &sys->of_device[d], &sys->rows_of[d]);
     MatX Wd;
     const DelassusBuffer* kept = deviceOperator(pb, d, s, sys, &Wd);
     const MatXView Wdev = kept ? kept->view() : MatXView(Wd);  // this device's operator
     const auto& idx = sys->of_device[d];
-    bool identity = !sys->W_device && sys->W_sum.size() == 0 && static_cast<int>(idx.size()) == m;
+    bool identity =
+        !sys->W_device && sys->W_sum.size() == 0 && static_cast<int>(idx.size()) == rows;
     for (size_t a = 0; a < idx.size() && identity; ++a) identity = idx[a] == static_cast<int>(a);
     if (identity) {  // one device holds every row, in order: W is its operator
       if (kept)
@@ -309,11 +308,12 @@ void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopS
       sys->W_sum = sys->W_device->view();
       sys->W_device = nullptr;
     }
-    if (sys->W_sum.size() == 0) sys->W_sum = MatX::Zero(m, m);
+    if (sys->W_sum.size() == 0) sys->W_sum = MatX::Zero(rows, rows);
     for (size_t b = 0; b < idx.size(); ++b)  // column by column (W is column-major)
       for (size_t a = 0; a < idx.size(); ++a) sys->W_sum(idx[a], idx[b]) += Wdev(a, b);
   }
-  if (!sys->W_device && sys->W_sum.size() == 0) sys->W_sum = MatX::Zero(m, m);
+  if (!sys->W_device && sys->W_sum.size() == 0) sys->W_sum = MatX::Zero(rows, rows);
+  eliminateLumenSprings(sys);
 }
 
 void correctMotion(const ContactProblem& pb, const ContactOptions& o, const LoopSystem& sys,
@@ -321,12 +321,18 @@ void correctMotion(const ContactProblem& pb, const ContactOptions& o, const Loop
   auto& ws = *pb.workspaces;
   const size_t nd = ws.size();
   const int dim = o.friction ? 3 : 1;
+  VecX forces = lambda;  // with the lumen's curvature springs' after the contacts'
+  if (!sys.springs.empty()) {
+    forces.resize(sys.m + static_cast<int>(sys.springs.size()));
+    forces.head(sys.m) = lambda;
+    forces.tail(sys.springs.size()) = lumenSpringForces(sys, lambda);
+  }
   for (size_t d = 0; d < nd; ++d) {
     s->dq[d] = sys.dq_step[d];
     const auto& idx = sys.of_device[d];
     if (idx.empty()) continue;
     VecX l(idx.size());
-    for (size_t j = 0; j < idx.size(); ++j) l(j) = lambda(idx[j]);
+    for (size_t j = 0; j < idx.size(); ++j) l(j) = forces(idx[j]);
     const int n = sys.factor[d]->size();
     if (sys.Y[d].size() > 0) {
       s->dq[d].tail(n) += sys.Y[d] * l;

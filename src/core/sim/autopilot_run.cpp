@@ -8,7 +8,8 @@ namespace evsim {
 
 AutopilotReport runAutopilot(const SceneModel& model, SimData* data, const std::string& target,
                              const std::string& device, const AutopilotOptions& options,
-                             const std::function<void(const std::string&)>& on_line) {
+                             const std::function<void(const std::string&)>& on_line,
+                             const std::function<void(const SimData&)>& on_step) {
   Autopilot pilot(model, *data, target, device, options);
   // A bounded number of steps: the autopilot ends by its timeout before.
   const long max_steps = static_cast<long>((options.timeout + 1.0) / model.time_step);
@@ -24,6 +25,7 @@ AutopilotReport runAutopilot(const SceneModel& model, SimData* data, const std::
       on_line(m.str());
     }
     pilot.observe(*data, status != StepStatus::kOk);
+    if (on_step) on_step(*data);
     data->notices.clear();
     if (status != StepStatus::kOk) {
       failure = "a step failed even with the recovery options: " + data->last_error;
