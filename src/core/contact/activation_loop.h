@@ -8,6 +8,8 @@
 //   contact_system.cpp  the loop's linear problem: the wall-curvature term
 //                     A + C, the rows of H and q at x, W = H A^-1 H^T, and
 //                     the correction x = x_f + A^-1 H^T lambda
+//   lumen_curvature.cpp  effect 'coaxial': the lumen's curvature as compliant
+//                     rows on the relative slide, eliminated from W and q
 //   contact_solver.cpp  the loop itself and the LCP (or frictional) solve
 #pragma once
 
@@ -149,6 +151,14 @@ bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState
 void prepareFreeMotion(const ContactProblem& pb, const ContactOptions& o, int loop, LoopState* s,
                        LoopSystem* sys);
 
+/// The rows of H and q, linearised at x: g(x_f + A^-1 H^T lambda) ~ g(x) +
+/// H (x_f - x) + W lambda; then W = H A^-1 H^T per device.
+void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopState* s,
+                        LoopSystem* sys);
+/// x = x_f + A^-1 H^T lambda; the contacts' forces from lambda.
+void correctMotion(const ContactProblem& pb, const ContactOptions& o, const LoopSystem& sys,
+                   const VecX& lambda, LoopState* s);
+
 // --- lumen_curvature.cpp -----------------------------------------------------
 
 /// The lumen's curvature rows at x of the lumen contacts with a force (none
@@ -165,12 +175,5 @@ VecX lumenSpringForces(const LoopSystem& sys, const VecX& lambda);
 /// the lumen, relative to the outer device, since the QP's anchor is within
 /// `settle` of its clearance (options.lumen_settle).
 bool lumenSpringsSettled(const LoopSystem& sys, const LoopState& s, double settle);
-/// The rows of H and q, linearised at x: g(x_f + A^-1 H^T lambda) ~ g(x) +
-/// H (x_f - x) + W lambda; then W = H A^-1 H^T per device.
-void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopState* s,
-                        LoopSystem* sys);
-/// x = x_f + A^-1 H^T lambda; the contacts' forces from lambda.
-void correctMotion(const ContactProblem& pb, const ContactOptions& o, const LoopSystem& sys,
-                   const VecX& lambda, LoopState* s);
 
 }  // namespace evsim::activation

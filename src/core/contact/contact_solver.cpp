@@ -216,8 +216,8 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     // aneurysm; later loops bring them back). Such a point gets the wall
     // where it left as a new plane, and the loop goes on.
     if (solved) solved = checkTunnels(pb, o, &field, &s, st);
-    // The lumen's curvature term has left no spurious force (within the
-    // last loop's, whatever is left stands: no point is beyond a wall).
+    // The lumen's curvature springs leave no spurious force (at the last
+    // loop allowed, what they leave stands: no point is beyond a wall).
     if (solved && loop < o.max_activation_loops)
       solved = lumenSpringsSettled(sys, s, o.lumen_settle);
     st->detection_ms += msSince(t0);

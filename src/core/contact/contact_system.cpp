@@ -30,7 +30,6 @@ bool sameRow(const ContactRow& a, const ContactRow& b) {
     if (a.offset[k] != b.offset[k] || a.h[k] != b.h[k]) return false;
   return true;
 }
-
 /// C (contact/wall_curvature.h) of the wall contacts with a force, per
 /// device; A + C into the workspace's `curved_system`. (*curved)[d] says
 /// whether device d has such a term (else A alone). A + C is factorised
@@ -54,23 +53,12 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
     ++rows[ct.device];
     if (ct.other_device >= 0 && ct.other_device != ct.device) ++rows[ct.other_device];
   }
-  // Adds Ce (on the nodes of element e of device d) to C.
-  auto add = [&](int d, int e, const Eigen::Matrix<double, 12, 12>& Ce) {
-    ChainMatrix& Cd = (*C)[d];
-    if (Cd.numBlocks() == 0) {
-      Cd.resize(devices[d].num_nodes);
-      Cd.setZero();
-    }
-    Cd.diag[e] += Ce.topLeftCorner<6, 6>();
-    Cd.diag[e + 1] += Ce.bottomRightCorner<6, 6>();
-    Cd.upper[e] += Ce.topRightCorner<6, 6>();
-  };
   for (const Contact& ct : contacts) {
-    if (!(ct.force > 0.0)) continue;
+    // (wall contacts only; the lumen's curvature: lumen_curvature.cpp)
+    if (ct.other_device >= 0 || !(ct.force > 0.0)) continue;
     const int d = ct.device;
     const SamplePoint& s = samples[d][ct.sample];
     const int e = s.element;
-    if (ct.other_device >= 0) continue;           // (the lumen's: lumen_curvature.cpp)
     if (e + 1 < ws[d].first_free_node) continue;  // both nodes held
     std::array<Vec3, 2> t;
     const Eigen::Matrix2d S =
@@ -79,7 +67,15 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
     Eigen::Matrix<double, 2, 12> R;
     R.row(0) = contactRow(devices[d], x[d], s, t[0]);
     R.row(1) = contactRow(devices[d], x[d], s, t[1]);
-    add(d, e, ct.force * R.transpose() * S * R);
+    const Eigen::Matrix<double, 12, 12> Ce = ct.force * R.transpose() * S * R;
+    ChainMatrix& Cd = (*C)[d];
+    if (Cd.numBlocks() == 0) {
+      Cd.resize(devices[d].num_nodes);
+      Cd.setZero();
+    }
+    Cd.diag[e] += Ce.topLeftCorner<6, 6>();
+    Cd.diag[e + 1] += Ce.bottomRightCorner<6, 6>();
+    Cd.upper[e] += Ce.topRightCorner<6, 6>();
   }
   for (size_t d = 0; d < nd; ++d) {
     DeviceWorkspace& w = ws[d];

@@ -102,17 +102,23 @@ void eliminateLumenSprings(LoopSystem* sys) {
   sys->S.compute(S);
   sys->W_HR = full.topRightCorner(m, r);
   sys->W_sum = full.topLeftCorner(m, m);
+  sys->W_device = nullptr;
+  // S is positive definite (W_RR semi-definite, K^-1 > 0); should its
+  // factorisation fail to round-off all the same, the loop is the paper's
+  // step without the springs (their forces 0).
+  if (sys->S.info() != Eigen::Success) return;
   sys->W_sum.noalias() -= sys->W_HR * sys->S.solve(sys->W_HR.transpose());
   sys->q.noalias() += sys->W_HR * sys->S.solve(sys->e);
-  sys->W_device = nullptr;
 }
 
 VecX lumenSpringForces(const LoopSystem& sys, const VecX& lambda) {
-  if (sys.springs.empty()) return VecX();
+  const int r = static_cast<int>(sys.springs.size());
+  if (r == 0 || sys.S.info() != Eigen::Success) return VecX::Zero(r);
   return sys.S.solve(sys.e - sys.W_HR.transpose() * lambda);
 }
 
 bool lumenSpringsSettled(const LoopSystem& sys, const LoopState& s, double settle) {
+  if (!sys.springs.empty() && sys.S.info() != Eigen::Success) return true;  // (no springs)
   for (const LumenSpring& spring : sys.springs) {
     double slide = 0.0;
     for (int k = 0; k < 2; ++k) {
