@@ -95,13 +95,18 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
   return pts;
 }
 
-/// A wall contact of the previous step that starts this one: it carried a
-/// force, or ended touching its plane (gap within `touching` [m]: a point
-/// resting on the wall with no force, which the next step's free motion
-/// pushes through again), and its point still takes part.
+/// A contact of the previous step that carried a force, or ended touching
+/// (gap within `touching` [m]: a point resting with no force, which the
+/// next step's free motion pushes through again).
+bool carriedOrTouched(const Contact& prev, double touching) {
+  return prev.force > 0.0 || std::abs(prev.gap) <= touching;
+}
+
+/// A wall contact of the previous step that starts this one
+/// (carriedOrTouched), its point still taking part.
 bool keptWallContact(const ContactProblem& pb, const Contact& prev, double touching) {
   if (prev.other_device >= 0 || prev.device >= static_cast<int>(pb.devices->size())) return false;
-  if (!(prev.force > 0.0) && !(std::abs(prev.gap) <= touching)) return false;
+  if (!carriedOrTouched(prev, touching)) return false;
   return takesPart(pb, prev.device, (*pb.samples)[prev.device][prev.sample]);
 }
 
@@ -287,12 +292,11 @@ void addLumen(const ContactProblem& pb, const LumenViolation& v, LoopState* s) {
   s->contacts->push_back(lumenContact(v, outerOf(pb, v.device)));
 }
 
-/// A lumen contact of the previous step that starts this one: it carried a
-/// force or ended touching (gap within `touching` [m]), and its inner
-/// device is still in the same outer device.
+/// A lumen contact of the previous step that starts this one
+/// (carriedOrTouched), its inner device still in the same outer device.
 bool keptLumenContact(const ContactProblem& pb, const Contact& prev, double touching) {
   if (!prev.lumen || prev.device >= static_cast<int>(pb.devices->size())) return false;
-  if (!(prev.force > 0.0) && !(std::abs(prev.gap) <= touching)) return false;
+  if (!carriedOrTouched(prev, touching)) return false;
   return outerOf(pb, prev.device) == prev.other_device;
 }
 
@@ -305,7 +309,7 @@ bool keptLumenContact(const ContactProblem& pb, const Contact& prev, double touc
 /// catheter springs millimetres across the lumen in the free motion, and
 /// planes taken there, far from where the loop ends, are dozens of rows that
 /// hold nothing (arch_navigation_headhunter at rest: 147 rows and 10 loops a
-/// step, against 9 rows asleep).
+/// step, against 11 rows asleep).
 void detectLumenContacts(const ContactProblem& pb, double touching, LoopState* s) {
   const auto& devices = *pb.devices;
   const auto& samples = *pb.samples;
