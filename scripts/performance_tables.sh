@@ -23,14 +23,11 @@ echo "== evsim bench aneurysm_packed --warmup 11000 --steps 3000 --min-rows 300"
   | tee "$out/bench_aneurysm_packed_300.txt"
 # The autopilot's procedures from the femoral access (docs/navigation.md):
 # every step, summed up by scripts/step_summary.py.
-for run in "arch_navigation left_common_carotid" "arch_navigation left_subclavian" \
-           "arch_navigation_headhunter right_common_carotid" \
-           "arch_navigation_headhunter right_subclavian"; do
-  set -- $run
-  echo "== evsim navigate $1 --target $2"
-  "$evsim" navigate "$1" --target "$2" --timeout 30 --quiet --steps-json "$out/navigate_$2.json" \
-    | tee "$out/navigate_$2.txt" || true  # not reached: reported in its JSON
-  /usr/bin/python3 "$repo/scripts/step_summary.py" "$out/navigate_$2.json" | tee -a "$out/navigate_$2.txt"
+for target in left_common_carotid left_subclavian right_common_carotid right_subclavian; do
+  echo "== evsim navigate arch_to_$target"
+  "$evsim" navigate "arch_to_$target" --timeout 30 --quiet --steps-json "$out/navigate_$target.json" \
+    | tee "$out/navigate_$target.txt" || true  # not reached: reported in its JSON
+  /usr/bin/python3 "$repo/scripts/step_summary.py" "$out/navigate_$target.json" | tee -a "$out/navigate_$target.txt"
 done
 set +u; source "$repo/build/ws/devel/setup.bash"; set -u
 echo "== scripts/node_benchmark.py"

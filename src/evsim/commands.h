@@ -54,7 +54,8 @@ struct NavigateOptions {
 int navigateScene(const NavigateOptions& options);
 
 struct NavigationBenchOptions {
-  std::vector<std::string> arch_scenes{"arch_navigation", "arch_navigation_headhunter"};
+  std::vector<std::string> arch_scenes{"arch_to_left_subclavian", "arch_to_left_common_carotid",
+                                       "arch_to_right_common_carotid", "arch_to_right_subclavian"};
   std::string network_scene{"network_navigation"};
   int network_targets{50};  // drawn from the network (0: the arch alone)
   int min_branchings{3};    // bifurcations passed from the access to a network target

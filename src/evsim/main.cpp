@@ -106,9 +106,11 @@ void addNavigate(CLI::App& app, NavigateOptions* o) {
   CLI::App* nav = app.add_subcommand(
       "navigate", "the autopilot drives the devices to a named vessel; a JSON summary");
   nav->add_option("scene", o->scene, kSceneHelp)->required();
-  nav->add_option("--target", o->target, "the vessel to reach (a name of the scene's vessels)")
-      ->required();
-  nav->add_option("--device", o->device, "whose tip must reach it (default: the innermost)");
+  nav->add_option("--target", o->target,
+                  "the vessel to reach (a name of the scene's vessels; default: the scene's "
+                  "first target)");
+  nav->add_option("--device", o->device,
+                  "whose tip must reach it (default: the target's device, else the innermost)");
   nav->add_option("--timeout", o->timeout, "simulated seconds before giving up")
       ->check(CLI::Range(0.01, 3600.0));
   nav->add_flag("--quiet", o->json_only, "print only the JSON summary");

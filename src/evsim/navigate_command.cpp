@@ -22,10 +22,22 @@ int navigateScene(const NavigateOptions& o) {
     steps.open(o.steps_json);
   }
   const SceneModel model = loadScene(o.scene);  // LoadError: main reports it
+  // Without --target: the scene's first target (a procedure scene has one).
+  std::string target = o.target, device = o.device;
+  if (target.empty()) {
+    if (model.targets.empty()) {
+      std::cerr << "evsim: navigate: scene '" << model.name
+                << "' names no targets: give one with --target NAME (evsim vessels " << o.scene
+                << " lists its vessels)\n";
+      return kExitBadInput;
+    }
+    target = model.targets.front().spec.vessel;
+    if (device.empty()) device = model.targets.front().spec.device;
+  }
   SimData data = makeData(model);
   AutopilotOptions options;
   options.timeout = o.timeout;
-  Autopilot pilot(model, data, o.target, o.device, options);  // LoadError: main reports it
+  Autopilot pilot(model, data, target, device, options);  // LoadError: main reports it
   const VesselAtlas& atlas = *model.atlas;
   if (!o.json_only) {
     std::string plan;
@@ -36,7 +48,7 @@ int navigateScene(const NavigateOptions& o) {
   }
   // (pilot: the plan and names; the run steps its own from the same state)
   const AutopilotReport r = runAutopilot(
-      model, &data, o.target, o.device, options,
+      model, &data, target, device, options,
       [&](const std::string& line) {
         if (!o.json_only) std::cout << line << "\n";
       },

@@ -1,5 +1,5 @@
-// The navigation autopilot: from the femoral access, a guidewire in an
-// angled catheter reaches vessels of the arch. That the tip is in the
+// The navigation autopilot: from the femoral access, a guidewire in a
+// shaped catheter reaches each vessel of the arch (a scene per target). That the tip is in the
 // target is judged against the SWC centreline itself (distance to the
 // vessel's polyline below its radius, 20 mm of path past its origin), not
 // the atlas the autopilot steers by.
@@ -76,13 +76,14 @@ TEST_P(ArchNavigation, TheAutopilotReachesTheVesselWithoutAFailedStep) {
   EXPECT_GT(on.depth, 0.015) << target;  // the polyline starts one point past the junction
 }
 
-// The angled catheter for the left-side branches, the Headhunter curve for
-// the brachiocephalic trunk's (the 45-degree tip slips into the subclavian).
+// One procedure scene per target: the angled catheter for the left-side
+// branches, the Headhunter curve for the brachiocephalic trunk's.
 INSTANTIATE_TEST_SUITE_P(
     Targets, ArchNavigation,
-    ::testing::Values(Case{"arch_navigation", "left_common_carotid"},
-                      Case{"arch_navigation", "left_subclavian"},
-                      Case{"arch_navigation_headhunter", "right_common_carotid"}),
+    ::testing::Values(Case{"arch_to_left_common_carotid", "left_common_carotid"},
+                      Case{"arch_to_left_subclavian", "left_subclavian"},
+                      Case{"arch_to_right_common_carotid", "right_common_carotid"},
+                      Case{"arch_to_right_subclavian", "right_subclavian"}),
     [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.target); });
 
 LoadError refusal(const std::string& scene, const std::string& target,

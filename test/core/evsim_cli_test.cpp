@@ -131,7 +131,7 @@ TEST(EvsimCli, NavigateRefusesAnUnknownTargetAndReportsAReachedOne) {
   const Outcome typo = evsim("navigate arch_navigation --target left_subclavain");
   EXPECT_EQ(typo.code, 2);
   EXPECT_TRUE(says(typo, "nearest: left_subclavian")) << typo.output;
-  const Outcome missing = evsim("navigate arch_navigation");
+  const Outcome missing = evsim("navigate carotid_selective");  // no --target, no targets
   EXPECT_EQ(missing.code, 2);
   EXPECT_TRUE(says(missing, "--target")) << missing.output;
   // Out of time before the arch: "not reached", with the reason, exit 1.
@@ -157,7 +157,8 @@ TEST(EvsimCli, NavigateRefusesAnUnknownTargetAndReportsAReachedOne) {
       evsim("navigate arch_navigation --target left_subclavian --steps-json /proc/nowhere/x.json");
   EXPECT_EQ(unwritable.code, 2) << unwritable.output;
   EXPECT_TRUE(says(unwritable, "--steps-json")) << unwritable.output;
-  const Outcome reached = evsim("navigate arch_navigation --target left_subclavian --quiet");
+  // Without --target: the scene's own (a procedure scene's one target).
+  const Outcome reached = evsim("navigate arch_to_left_subclavian --quiet");
   EXPECT_EQ(reached.code, 0) << reached.output;
   EXPECT_TRUE(says(reached, "\"reached\":true")) << reached.output;
   EXPECT_TRUE(says(reached, "\"failed_steps\":0")) << reached.output;

@@ -28,6 +28,8 @@ const char* phaseName(AutopilotPhase phase) {
 
 namespace {
 
+constexpr double kOuterMinLead = 0.005;  // [m] the inner device's drive ahead of the outer's
+
 /// Index of the last node at least `back` [m] (material) behind the tip.
 int nodeBehindTip(const DeviceModel& m, double back) {
   int i = m.num_nodes - 1;
@@ -133,8 +135,14 @@ void Autopilot::drive(const SceneModel& model, SimData* data, double insertion_s
   const DeviceModel& o = model.devices[follow_];
   DriveCommand outer;
   outer.mode = DriveCommand::Mode::kPosition;
-  outer.insertion =
-      std::clamp(data->devices[lead_].inserted_length - options_.follow_lag, 0.0, o.length);
+  // Advancing, it never draws back to the lag: a catheter already deeper
+  // (engaged in a branch) would pull the wire's tip out of it.
+  const double lead_inserted = data->devices[lead_].inserted_length;
+  double behind = lead_inserted - options_.follow_lag;
+  if (insertion_speed >= 0.0)
+    behind = std::max(
+        behind, std::min(data->devices[follow_].inserted_length, lead_inserted - kOuterMinLead));
+  outer.insertion = std::clamp(behind, 0.0, o.length);
   const int outer_vessel = data->tips[follow_].vessel;
   if (outer_vessel >= 0 && model.atlas->vessels()[outer_vessel].radius < 2.0 * o.node_radius.back())
     outer.insertion = std::min(outer.insertion, data->devices[follow_].inserted_length);

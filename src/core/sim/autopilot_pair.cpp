@@ -10,6 +10,10 @@
 
 namespace evsim {
 
+namespace {
+constexpr double kTerminalEngageDepth = 0.01;  // [m] see controlPair
+}  // namespace
+
 /// What the screen shows of the pair at the branch it engages.
 struct Autopilot::PairView {
   const SceneModel& model;
@@ -58,6 +62,12 @@ bool Autopilot::choosePairBranch(const SceneModel& model, const SimData& data,
     // The catheter is in the target, no turn is left, or the next branch is
     // too narrow for the catheter (less than twice its radius): the wire
     // goes on alone, the catheter trailing where it fits.
+    // A catheter that has entered the target while it engages it (its tip
+    // not yet along the branch) still engages it: the wire goes in next.
+    const bool engaging_target = branch < 0 && branch_ == target_ &&
+                                 (stage_ == PairStage::kPark || stage_ == PairStage::kEngage ||
+                                  stage_ == PairStage::kWireIn);
+    if (engaging_target) return true;
     if (branch < 0 ||
         atlas.vessels()[branch].radius < 2.0 * model.devices[follow_].node_radius.back())
       return false;
@@ -115,9 +125,13 @@ std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
     }
   v.terminal = v.branch.origin_depth >= v.host.length - 1e-4 || v.branch.origin_depth <= 1e-4;
   const VesselLocation cath_in_branch = atlas.locateIn(branch_, v.cath.position.back());
-  const bool engaged = (v.cath_at.vessel == branch_ ||
+  // Into a bifurcation's branch the catheter goes 1 cm deep before the wire
+  // comes out: at its ostium the wire would fall back into the sibling.
+  const bool engaged =
+      (v.terminal ? cath_in_branch.inside && cath_in_branch.depth >= kTerminalEngageDepth
+                  : v.cath_at.vessel == branch_ ||
                         (cath_in_branch.inside && cath_in_branch.depth >= 0.6 * v.host.radius)) &&
-                       v.cath_dir.dot(v.out) > 0.5;
+      v.cath_dir.dot(v.out) > 0.5;
   if (engaged && (stage_ == PairStage::kLead || stage_ == PairStage::kEngage)) {
     command(model, data, follow_, DriveCommand::Mode::kVelocity, 0.0, 0.0);
     return stageTo(PairStage::kWireIn, "catheter engaged in " + v.branch.name + "; wire in", t);
@@ -254,7 +268,12 @@ std::string Autopilot::engageStage(const PairView& v) {
 }
 
 std::string Autopilot::wireInStage(const PairView& v) {
-  command(v.model, v.data, follow_, kVel, 0.0, 0.0);
+  // Forward pressure on the catheter while the wire comes out of it into a
+  // bifurcation's branch: its curve, straightened by the wire, would back
+  // its tip out of the branch.
+  const VesselLocation cath_in_branch = v.model.atlas->locateIn(branch_, v.cath.position.back());
+  const bool hold_in = v.terminal && cath_in_branch.depth < kTerminalEngageDepth + 0.005;
+  command(v.model, v.data, follow_, kVel, hold_in ? 0.3 * options_.advance_speed : 0.0, 0.0);
   const bool deep = !v.wire_off_plan && ((v.wire_at.vessel == branch_ && v.wire_at.depth > 0.02) ||
                                          v.at(v.wire_at.vessel) > v.at(branch_));
   if (deep) {
