@@ -170,8 +170,10 @@ Autopilot::Aim Autopilot::aimFor(const SceneModel& model, const SimData& data, i
     const double ahead = (c.origin_depth - at.depth) * sign;
     const double window = here.radius + options_.approach_distance;
     if (ahead > window || ahead < -(c.radius + 0.003)) continue;
-    if (std::abs(ahead) >= best) continue;
-    best = std::abs(ahead);
+    // The nearest; of a bifurcation's two (at one depth), the path's.
+    const double distance = std::abs(ahead);
+    if (distance > best + 1e-6 || (distance >= best - 1e-6 && child != next)) continue;
+    best = distance;
     Vec3 start_dir;
     const Vec3 start = atlas.pointAt(child, 0.0, &start_dir);
     const Vec3 out = atlas.pointAt(child, std::min(c.length, 1.5 * here.radius + 0.005));

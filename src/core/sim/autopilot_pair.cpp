@@ -12,6 +12,14 @@ namespace evsim {
 
 namespace {
 constexpr double kTerminalEngageDepth = 0.01;  // [m] see controlPair
+
+/// Whether a vessel starts at an end of its parent (a bifurcation's
+/// branch), not from its side.
+bool isTerminalBranch(const VesselAtlas& atlas, int vessel) {
+  const NamedVessel& v = atlas.vessels()[vessel];
+  if (v.parent < 0) return false;
+  return v.origin_depth >= atlas.vessels()[v.parent].length - 1e-4 || v.origin_depth <= 1e-4;
+}
 }  // namespace
 
 /// What the screen shows of the pair at the branch it engages.
@@ -46,6 +54,15 @@ bool Autopilot::choosePairBranch(const SceneModel& model, const SimData& data,
   const VesselAtlas& atlas = *model.atlas;
   // The next turn of the plan into a branch, from the catheter's vessel on.
   const auto cath_on_plan = std::find(plan.begin(), plan.end(), data.tips[follow_].vessel);
+  // A catheter that has entered a bifurcation's branch it engages (its tip
+  // not yet 1 cm along it: controlPair) still engages it: the wire goes in
+  // next, whatever follows. (A side branch's ostium entered, the pair goes
+  // on to the next turn: the catheter is where it needs to be.)
+  const bool engaging =
+      stage_ == PairStage::kPark || stage_ == PairStage::kEngage || stage_ == PairStage::kWireIn;
+  if (engaging && branch_ >= 0 && isTerminalBranch(atlas, branch_) && cath_on_plan != plan.end() &&
+      cath_on_plan >= std::find(plan.begin(), plan.end(), branch_))
+    return true;
   if (cath_on_plan != plan.end()) {
     const size_t from_index = static_cast<size_t>(cath_on_plan - plan.begin());
     int host = -1, branch = -1;
@@ -62,12 +79,6 @@ bool Autopilot::choosePairBranch(const SceneModel& model, const SimData& data,
     // The catheter is in the target, no turn is left, or the next branch is
     // too narrow for the catheter (less than twice its radius): the wire
     // goes on alone, the catheter trailing where it fits.
-    // A catheter that has entered the target while it engages it (its tip
-    // not yet along the branch) still engages it: the wire goes in next.
-    const bool engaging_target = branch < 0 && branch_ == target_ &&
-                                 (stage_ == PairStage::kPark || stage_ == PairStage::kEngage ||
-                                  stage_ == PairStage::kWireIn);
-    if (engaging_target) return true;
     if (branch < 0 ||
         atlas.vessels()[branch].radius < 2.0 * model.devices[follow_].node_radius.back())
       return false;
@@ -123,7 +134,7 @@ std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
                  atlas.pointAt(sibling, 0.0))
                     .normalized();
     }
-  v.terminal = v.branch.origin_depth >= v.host.length - 1e-4 || v.branch.origin_depth <= 1e-4;
+  v.terminal = isTerminalBranch(atlas, branch_);
   const VesselLocation cath_in_branch = atlas.locateIn(branch_, v.cath.position.back());
   // Into a bifurcation's branch the catheter goes 1 cm deep before the wire
   // comes out: at its ostium the wire would fall back into the sibling.
