@@ -120,6 +120,13 @@ class Autopilot {
   /// and returns the failure's line, else "".
   std::string retryOrFail(const std::string& why, double t);
   std::string setPhase(AutopilotPhase phase, const std::string& why, double t);
+  /// Judges the target's depth and dwell at the data's time: true once reached.
+  bool judgeDwell(const SceneModel& model, const SimData& data);
+  /// The lead device alone (or with its outer device trailing): the dwell in
+  /// the target, a pull back and retry, or a turn toward the path's next
+  /// vessel and an advance.
+  std::string steerLead(const SceneModel& model, SimData* data, const std::vector<int>& plan,
+                        const std::vector<int>& path, const VesselLocation& at, double remaining);
   /// Why the tip must be pulled back and the approach repeated (a wrong
   /// vessel, slid past the ostium, no progress), and *pull [m]; "" if not.
   std::string retryWhy(const VesselAtlas& atlas, const std::vector<int>& plan,
@@ -145,6 +152,7 @@ class Autopilot {
   double last_turn_{0.0};
   enum class PairStage { kLead, kBackOut, kPark, kEngage, kWireIn, kFollow, kOver };  // NOLINT
   PairStage stage_{PairStage::kLead};
+  double stage_since_{0.0};    // [s] when the pair entered its stage
   int host_{-1}, branch_{-1};  // the vessel the catheter engages from, and the branch
   double travel_{1.0};  // direction of travel along the host (+1: away from its origin)  // [rad]
                         // the last aim error, for its sign near a half turn

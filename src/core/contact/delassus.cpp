@@ -163,80 +163,14 @@ void addFreshColumns(const ChainInverse& inverse, const std::vector<Part>& parts
   }
 }
 
-}  // namespace
-
-void chainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
-                           MatX* W) {
-  W->resize(0, 0);
-  updateChainDelassusOperator(inverse, rows, std::vector<char>(), W);
-}
-
-void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
-                                 const std::vector<char>& fresh_rows, MatX* W,
-                                 DelassusUpdate path) {
-  DelassusBuffer buffer;
-  if (W->rows() == W->cols()) {
-    buffer.storage.swap(*W);
-    buffer.size = static_cast<int>(buffer.storage.rows());
-  }
-  updateChainDelassusOperator(inverse, rows, fresh_rows, &buffer, path);
-  if (buffer.storage.rows() == buffer.size)
-    W->swap(buffer.storage);
-  else
-    *W = buffer.view();
-}
-
-void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
-                                 const std::vector<char>& fresh_rows, DelassusBuffer* buffer,
-                                 DelassusUpdate path) {
-  const int c = static_cast<int>(rows.size());
-  if (buffer->size > c) buffer->size = 0;  // nothing to keep
-  const int kept_rows = buffer->size;
-  auto fresh = [&](int row) {
-    return row >= kept_rows || (row < static_cast<int>(fresh_rows.size()) && fresh_rows[row]);
-  };
-  // W starts as the previous operator among kept rows (final there) and 0
-  // elsewhere: the sweep adds only pairs with a fresh row, in one half.
-  std::vector<int> fresh_list;
-  for (int i = 0; i < c; ++i)
-    if (fresh(i)) fresh_list.push_back(i);
-  if (c > buffer->storage.rows()) {  // beyond the capacity: the kept block copied once
-    const int capacity = std::max(c, static_cast<int>(3 * buffer->storage.rows() / 2));
-    MatX grown(capacity, capacity);
-    grown.topLeftCorner(kept_rows, kept_rows) = buffer->storage.topLeftCorner(kept_rows, kept_rows);
-    buffer->storage.swap(grown);
-  }
-  buffer->size = c;
-  Eigen::Block<MatX> W = buffer->matrix();
-  if (kept_rows < c) {  // the added rows and columns start at zero
-    W.bottomRows(c - kept_rows).setZero();
-    W.topRightCorner(kept_rows, c - kept_rows).setZero();
-  }
-  for (int f : fresh_list) {
-    if (f >= kept_rows) break;
-    W.row(f).head(kept_rows).setZero();
-    W.col(f).head(kept_rows).setZero();
-  }
+/// Adds to one half of W every pair of parts with a fresh row (is_fresh_row)
+/// in one sweep down the chain (parts sorted by node, descending: from the
+/// top of the chain down). One function of about 100 lines: the sweep's
+/// state (carried columns, transfer, checkpoint) is what every step of it
+/// updates; split, it would pass through a dozen arguments.
+void sweepColumns(const ChainInverse& inverse, const std::vector<Part>& parts,
+                  const std::vector<char>& is_fresh_row, Eigen::Ref<MatX> W) {
   const int blocks = inverse.numBlocks();
-  std::vector<Part> parts = sortedParts(rows, blocks);
-  const bool few =
-      kFreshColumnsPerRow * static_cast<int>(fresh_list.size()) <= c + kFreshColumnsBase;
-  if (kept_rows > 0 && path != DelassusUpdate::kSweep &&
-      (path == DelassusUpdate::kFreshColumns || few)) {
-    // Few fresh rows: their columns alone, then mirrored into their rows
-    // (a pair of fresh rows from the higher one's column).
-    std::vector<int> fresh_parts;
-    for (size_t k = 0; k < parts.size(); ++k)
-      if (fresh(parts[k].row)) fresh_parts.push_back(static_cast<int>(k));
-    addFreshColumns(inverse, parts, fresh_parts, W);
-    std::vector<char> is_fresh(c, 0);
-    for (int f : fresh_list) is_fresh[f] = 1;
-    for (int f : fresh_list)
-      for (int i = 0; i < c; ++i)
-        if (!is_fresh[i] || i < f) W(f, i) = W(i, f);
-    return;
-  }
-  std::reverse(parts.begin(), parts.end());  // from the top of the chain down
   const int count = static_cast<int>(parts.size());
   // One sweep down the chain carries the columns S g_b of every part started
   // so far. A part's column starts at its own node from the band of S; below
@@ -293,14 +227,14 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
         above.col(active).noalias() =
             inverse.subdiagonal(i) * b.lo + inverse.diagonal(i + 1) * b.hi;
       }
-      if (fresh(b.row)) fresh_columns.push_back(active);
+      if (is_fresh_row[b.row]) fresh_columns.push_back(active);
     }
     const int young = active - settled_count;
     for (int a = next; a < active; ++a) {
       const Part& pa = parts[a];
       Vec6 u = Vec6::Zero();
       if (settled_count > 0) u = T.transpose() * pa.lo + T_above.transpose() * pa.hi;
-      if (fresh(pa.row)) {  // with every column
+      if (is_fresh_row[pa.row]) {  // with every column
         if (settled_count > 0)
           dots.head(settled_count).noalias() = settled.topRows(settled_count) * u;
         dots.segment(settled_count, young).noalias() =
@@ -330,17 +264,99 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
       checkpoint = i;
     }
   }
+}
+
+/// W (c x c) in the buffer: the previous operator among its first
+/// kept_rows rows where neither row is fresh (final there), 0 elsewhere;
+/// beyond the capacity the kept block is copied once into a buffer half as
+/// large again.
+Eigen::Block<MatX> keepUnchangedEntries(int c, int kept_rows, const std::vector<int>& fresh_list,
+                                        DelassusBuffer* buffer) {
+  if (c > buffer->storage.rows()) {
+    const int capacity = std::max(c, static_cast<int>(3 * buffer->storage.rows() / 2));
+    MatX grown(capacity, capacity);
+    grown.topLeftCorner(kept_rows, kept_rows) = buffer->storage.topLeftCorner(kept_rows, kept_rows);
+    buffer->storage.swap(grown);
+  }
+  buffer->size = c;
+  Eigen::Block<MatX> W = buffer->matrix();
+  if (kept_rows < c) {  // the added rows and columns start at zero
+    W.bottomRows(c - kept_rows).setZero();
+    W.topRightCorner(kept_rows, c - kept_rows).setZero();
+  }
+  for (int f : fresh_list) {
+    if (f >= kept_rows) break;
+    W.row(f).head(kept_rows).setZero();
+    W.col(f).head(kept_rows).setZero();
+  }
+  return W;
+}
+
+}  // namespace
+
+void chainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
+                           MatX* W) {
+  W->resize(0, 0);
+  updateChainDelassusOperator(inverse, rows, std::vector<char>(), W);
+}
+
+void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
+                                 const std::vector<char>& fresh_rows, MatX* W,
+                                 DelassusUpdate path) {
+  DelassusBuffer buffer;
+  if (W->rows() == W->cols()) {
+    buffer.storage.swap(*W);
+    buffer.size = static_cast<int>(buffer.storage.rows());
+  }
+  updateChainDelassusOperator(inverse, rows, fresh_rows, &buffer, path);
+  if (buffer.storage.rows() == buffer.size)
+    W->swap(buffer.storage);
+  else
+    *W = buffer.view();
+}
+
+void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
+                                 const std::vector<char>& fresh_rows, DelassusBuffer* buffer,
+                                 DelassusUpdate path) {
+  const int c = static_cast<int>(rows.size());
+  if (buffer->size > c) buffer->size = 0;  // nothing to keep
+  const int kept_rows = buffer->size;
+  std::vector<char> is_fresh_row(c, 0);
+  std::vector<int> fresh_list;
+  for (int i = 0; i < c; ++i)
+    if (i >= kept_rows || (i < static_cast<int>(fresh_rows.size()) && fresh_rows[i])) {
+      is_fresh_row[i] = 1;
+      fresh_list.push_back(i);
+    }
+  Eigen::Block<MatX> W = keepUnchangedEntries(c, kept_rows, fresh_list, buffer);
+  const int blocks = inverse.numBlocks();
+  std::vector<Part> parts = sortedParts(rows, blocks);
+  const bool few =
+      kFreshColumnsPerRow * static_cast<int>(fresh_list.size()) <= c + kFreshColumnsBase;
+  if (kept_rows > 0 && path != DelassusUpdate::kSweep &&
+      (path == DelassusUpdate::kFreshColumns || few)) {
+    // Few fresh rows: their columns alone, then mirrored into their rows
+    // (a pair of fresh rows from the higher one's column).
+    std::vector<int> fresh_parts;
+    for (size_t k = 0; k < parts.size(); ++k)
+      if (is_fresh_row[parts[k].row]) fresh_parts.push_back(static_cast<int>(k));
+    addFreshColumns(inverse, parts, fresh_parts, W);
+    for (int f : fresh_list)
+      for (int i = 0; i < c; ++i)
+        if (!is_fresh_row[i] || i < f) W(f, i) = W(i, f);
+    return;
+  }
+  std::reverse(parts.begin(), parts.end());  // from the top of the chain down
+  sweepColumns(inverse, parts, is_fresh_row, W);
   if (kept_rows == 0) {  // every pair in one half
     symmetrizeHalves(W);
     return;
   }
   // The pairs with a fresh row are in one half: add the halves there only
   // (a fresh pair once, from its lower index; the diagonal is whole).
-  std::vector<char> is_fresh(c, 0);
-  for (int f : fresh_list) is_fresh[f] = 1;
   for (int f : fresh_list)
     for (int i = 0; i < c; ++i) {
-      if (is_fresh[i] && i <= f) continue;
+      if (is_fresh_row[i] && i <= f) continue;
       const double sum = W(i, f) + W(f, i);
       W(i, f) = sum;
       W(f, i) = sum;

@@ -81,84 +81,107 @@ double unitFromName(const std::string& name, const std::string& path, int line) 
 
 }  // namespace
 
-Centerline loadCenterlineFile(const std::string& path, double default_unit) {
+namespace {
+
+/// A point line of an SWC file, as written (ids, file unit).
+struct SwcRow {
+  long id, parent;
+  int type, line;
+  Vec3 x;
+  double r;
+};
+
+/// A `# vessel: NAME ID` line.
+struct SwcVesselStart {
+  std::string name;
+  long id;
+  int line;
+};
+
+/// What an SWC file holds: its points, its named vessels, its unit [m].
+struct SwcFile {
+  std::vector<SwcRow> rows;
+  std::vector<SwcVesselStart> starts;
+  double unit{1.0};
+  int lines{0};
+};
+
+/// A comment's `units:` or `vessel:` (anything else is a comment).
+void readSwcComment(const std::string& comment_text, const std::string& path, int line,
+                    SwcFile* f) {
+  std::istringstream comment(comment_text);
+  std::string key, value;
+  if (comment >> key >> value && key == "units:") f->unit = unitFromName(value, path, line);
+  if (key != "vessel:") return;
+  std::string id_text, rest;
+  comment >> id_text;
+  char* end = nullptr;
+  const long id = std::strtol(id_text.c_str(), &end, 10);
+  if (!isVesselName(value))
+    throw LoadError(path, line, "vessel",
+                    "'" + value + "' is not a vessel name (snake_case: [a-z][a-z0-9_]*)");
+  if (id_text.empty() || *end != '\0' || (comment >> rest))
+    throw LoadError(path, line, "vessel", "needs '# vessel: NAME ID' (ID: its first point)");
+  for (const SwcVesselStart& v : f->starts)
+    if (v.name == value)
+      throw LoadError(
+          path, line, "vessel",
+          "'" + value + "' is named twice (also on line " + std::to_string(v.line) + ")");
+  f->starts.push_back({value, id, line});
+}
+
+/// A point line's 7 columns, each a finite number (id, type and parent whole).
+SwcRow readSwcRow(const std::vector<std::string>& tokens, const std::string& path, int line) {
+  static const char* kColumns[] = {"id", "type", "x", "y", "z", "radius", "parent"};
+  if (tokens.size() != 7)
+    throw LoadError(
+        path, line, "",
+        "needs 7 columns (id type x y z radius parent), got " + std::to_string(tokens.size()));
+  double v[7];
+  for (int k = 0; k < 7; ++k) {
+    char* end = nullptr;
+    v[k] = std::strtod(tokens[k].c_str(), &end);
+    if (end == tokens[k].c_str() || *end != '\0')
+      throw LoadError(path, line, kColumns[k], "'" + tokens[k] + "' is not a number");
+    if (!std::isfinite(v[k])) throw LoadError(path, line, kColumns[k], "must be finite");
+  }
+  if (v[5] <= 0.0) throw LoadError(path, line, "radius", "must be positive");
+  for (int k : {0, 1, 6})  // id, type, parent
+    if (v[k] != std::floor(v[k]) || std::abs(v[k]) > 1e15)
+      throw LoadError(path, line, kColumns[k], "'" + tokens[k] + "' is not a whole number");
+  return {static_cast<long>(v[0]), static_cast<long>(v[6]),
+          static_cast<int>(v[1]),  line,
+          Vec3(v[2], v[3], v[4]),  v[5]};
+}
+
+SwcFile readSwcFile(const std::string& path, double default_unit) {
   std::ifstream in(path);
   if (!in) throw LoadError(path, 0, "", "cannot open the centreline file");
-  struct Row {
-    long id, parent;
-    int type, line;
-    Vec3 x;
-    double r;
-  };
-  std::vector<Row> rows;
-  struct VesselStart {
-    std::string name;
-    long id;
-    int line;
-  };
-  std::vector<VesselStart> starts;
-  double unit = default_unit;
+  SwcFile f;
+  f.unit = default_unit;
   std::string text;
-  int line = 0;
-  static const char* kColumns[] = {"id", "type", "x", "y", "z", "radius", "parent"};
   while (std::getline(in, text)) {
-    ++line;
+    const int line = ++f.lines;
     const size_t hash = text.find('#');
     if (hash != std::string::npos) {
-      std::istringstream comment(text.substr(hash + 1));
-      std::string key, value;
-      if (comment >> key >> value && key == "units:") unit = unitFromName(value, path, line);
-      if (key == "vessel:") {
-        std::string id_text, rest;
-        comment >> id_text;
-        char* end = nullptr;
-        const long id = std::strtol(id_text.c_str(), &end, 10);
-        if (!isVesselName(value))
-          throw LoadError(path, line, "vessel",
-                          "'" + value + "' is not a vessel name (snake_case: [a-z][a-z0-9_]*)");
-        if (id_text.empty() || *end != '\0' || (comment >> rest))
-          throw LoadError(path, line, "vessel", "needs '# vessel: NAME ID' (ID: its first point)");
-        for (const VesselStart& v : starts)
-          if (v.name == value)
-            throw LoadError(
-                path, line, "vessel",
-                "'" + value + "' is named twice (also on line " + std::to_string(v.line) + ")");
-        starts.push_back({value, id, line});
-      }
+      readSwcComment(text.substr(hash + 1), path, line, &f);
       text = text.substr(0, hash);
     }
     std::istringstream fields(text);
     std::vector<std::string> tokens;
     for (std::string t; fields >> t;) tokens.push_back(t);
-    if (tokens.empty()) continue;
-    if (tokens.size() != 7)
-      throw LoadError(
-          path, line, "",
-          "needs 7 columns (id type x y z radius parent), got " + std::to_string(tokens.size()));
-    double v[7];
-    for (int k = 0; k < 7; ++k) {
-      char* end = nullptr;
-      v[k] = std::strtod(tokens[k].c_str(), &end);
-      if (end == tokens[k].c_str() || *end != '\0')
-        throw LoadError(path, line, kColumns[k], "'" + tokens[k] + "' is not a number");
-      if (!std::isfinite(v[k])) throw LoadError(path, line, kColumns[k], "must be finite");
-    }
-    if (v[5] <= 0.0) throw LoadError(path, line, "radius", "must be positive");
-    for (int k : {0, 1, 6})  // id, type, parent
-      if (v[k] != std::floor(v[k]) || std::abs(v[k]) > 1e15)
-        throw LoadError(path, line, kColumns[k], "'" + tokens[k] + "' is not a whole number");
-    rows.push_back({static_cast<long>(v[0]), static_cast<long>(v[6]), static_cast<int>(v[1]), line,
-                    Vec3(v[2], v[3], v[4]), v[5]});
+    if (!tokens.empty()) f.rows.push_back(readSwcRow(tokens, path, line));
   }
-  if (rows.empty()) throw LoadError(path, line, "", "the file has no points");
+  if (f.rows.empty()) throw LoadError(path, f.lines, "", "the file has no points");
+  return f;
+}
 
-  std::unordered_map<long, int> index;
-  for (size_t i = 0; i < rows.size(); ++i)
-    if (!index.emplace(rows[i].id, static_cast<int>(i)).second)
-      throw LoadError(path, rows[i].line, "id",
-                      "id " + std::to_string(rows[i].id) + " appears twice");
+/// Points in file order, parents as indices, in metres; each within the
+/// largest vessel radius and 10 m of the origin.
+Centerline swcPoints(const SwcFile& f, const std::unordered_map<long, int>& index,
+                     const std::string& path) {
   Centerline c;
-  for (const Row& r : rows) {
+  for (const SwcRow& r : f.rows) {
     int parent = -1;
     if (r.parent >= 0) {
       const auto it = index.find(r.parent);
@@ -168,32 +191,24 @@ Centerline loadCenterlineFile(const std::string& path, double default_unit) {
       if (parent == static_cast<int>(c.position.size()))
         throw LoadError(path, r.line, "parent", "a point cannot be its own parent");
     }
-    if (unit * r.r > kMaxVesselRadius) {
+    if (f.unit * r.r > kMaxVesselRadius) {
       std::ostringstream why;
-      why << unit * r.r << " m is beyond the largest vessel radius (" << kMaxVesselRadius
+      why << f.unit * r.r << " m is beyond the largest vessel radius (" << kMaxVesselRadius
           << " m): check the units";
       throw LoadError(path, r.line, "radius", why.str());
     }
-    if ((unit * r.x).cwiseAbs().maxCoeff() > kMaxCoordinate)
+    if ((f.unit * r.x).cwiseAbs().maxCoeff() > kMaxCoordinate)
       throw LoadError(path, r.line, "x", "a coordinate beyond 10 m: check the units");
-    c.position.push_back(unit * r.x);
-    c.radius.push_back(unit * r.r);
+    c.position.push_back(f.unit * r.x);
+    c.radius.push_back(f.unit * r.r);
     c.parent.push_back(parent);
     c.type.push_back(r.type);
   }
-  c.vessel.assign(c.numPoints(), -1);
-  for (const VesselStart& v : starts) {
-    const auto it = index.find(v.id);
-    if (it == index.end())
-      throw LoadError(path, v.line, "vessel", "no point with id " + std::to_string(v.id));
-    if (c.vessel[it->second] >= 0)
-      throw LoadError(path, v.line, "vessel",
-                      "point " + std::to_string(v.id) + " already starts vessel '" +
-                          c.vessel_names[c.vessel[it->second]] + "'");
-    c.vessel[it->second] = static_cast<int>(c.vessel_names.size());
-    c.vessel_names.push_back(v.name);
-  }
-  // Cycles: follow parents; a walk longer than the point count loops.
+  return c;
+}
+
+/// Refuses parents that form a cycle (a walk up longer than the points).
+void checkNoCycle(const Centerline& c, const SwcFile& f, const std::string& path) {
   std::vector<char> state(c.numPoints(), 0);  // 0 unseen, 1 on the current walk, 2 done
   for (int i = 0; i < c.numPoints(); ++i) {
     std::vector<int> walk;
@@ -204,10 +219,35 @@ Centerline loadCenterlineFile(const std::string& path, double default_unit) {
       j = c.parent[j];
     }
     if (j >= 0 && state[j] == 1)
-      throw LoadError(path, rows[j].line, "parent",
-                      "the parents form a cycle through id " + std::to_string(rows[j].id));
+      throw LoadError(path, f.rows[j].line, "parent",
+                      "the parents form a cycle through id " + std::to_string(f.rows[j].id));
     for (int k : walk) state[k] = 2;
   }
+}
+
+}  // namespace
+
+Centerline loadCenterlineFile(const std::string& path, double default_unit) {
+  const SwcFile f = readSwcFile(path, default_unit);
+  std::unordered_map<long, int> index;
+  for (size_t i = 0; i < f.rows.size(); ++i)
+    if (!index.emplace(f.rows[i].id, static_cast<int>(i)).second)
+      throw LoadError(path, f.rows[i].line, "id",
+                      "id " + std::to_string(f.rows[i].id) + " appears twice");
+  Centerline c = swcPoints(f, index, path);
+  c.vessel.assign(c.numPoints(), -1);
+  for (const SwcVesselStart& v : f.starts) {
+    const auto it = index.find(v.id);
+    if (it == index.end())
+      throw LoadError(path, v.line, "vessel", "no point with id " + std::to_string(v.id));
+    if (c.vessel[it->second] >= 0)
+      throw LoadError(path, v.line, "vessel",
+                      "point " + std::to_string(v.id) + " already starts vessel '" +
+                          c.vessel_names[c.vessel[it->second]] + "'");
+    c.vessel[it->second] = static_cast<int>(c.vessel_names.size());
+    c.vessel_names.push_back(v.name);
+  }
+  checkNoCycle(c, f, path);
   nameVessels(&c);
   return c;
 }

@@ -89,6 +89,50 @@ struct Tip {
   int named;    // index of its name in Centerline::vessel_names
 };
 
+/// A daughter vessel proposed at a tip: from a through m to b, its end
+/// direction and radius [m].
+struct Daughter {
+  Vec3 a, m, b, dir;
+  double r;
+};
+
+/// One attempt at a bifurcation at `tip`: two daughters by Murray's law
+/// (radii r1^3 + r2^3 = r^3, the ratio and the plane drawn from `uni`),
+/// each of 8-16 radii in two segments. False when a daughter leaves the
+/// growth box or collides with a vessel other than its parent and sibling.
+bool proposeBifurcation(const Tip& tip, const NetworkOptions& options, const Centerline& c,
+                        const SegmentHash& hash, Uniform* uni, Daughter kids[2], Vec3* plane) {
+  const double gamma = uni->between(0.6, 1.0);  // r2 / r1
+  const double r1 = tip.r / std::cbrt(1.0 + gamma * gamma * gamma);
+  const double r2 = gamma * r1;
+  auto murray = [&](double ra, double rb) {
+    const double cosv = (std::pow(tip.r, 4) + std::pow(ra, 4) - std::pow(rb, 4)) /
+                        (2.0 * tip.r * tip.r * ra * ra);
+    return std::acos(std::clamp(cosv, -1.0, 1.0));
+  };
+  const double turn = (90.0 + uni->between(-30.0, 30.0)) * M_PI / 180.0;
+  *plane = Eigen::AngleAxisd(turn, tip.dir) * tip.normal;  // bifurcation plane normal
+  const Vec3 side = plane->cross(tip.dir).normalized();
+  for (int k = 0; k < 2; ++k) {
+    const double r = k == 0 ? r1 : r2;
+    const double angle = (k == 0 ? 1.0 : -1.0) * murray(r, k == 0 ? r2 : r1);
+    const Vec3 dir = (std::cos(angle) * tip.dir + std::sin(angle) * side).normalized();
+    const double len = uni->between(8.0, 16.0) * r;
+    const Vec3 a = c.position[tip.point];
+    const Vec3 bend = Eigen::AngleAxisd(uni->between(-0.2, 0.2), *plane) * dir;
+    const Vec3 m = a + 0.5 * len * dir;
+    const Vec3 b = m + 0.5 * len * bend;
+    kids[k] = {a, m, b, bend, r};
+    if (!options.growth_box.contains(b) || !options.growth_box.contains(m)) return false;
+    // Skip the first part near the junction, where the parent and sibling meet.
+    const Vec3 start = a + std::min(0.5 * len, 2.5 * tip.r) * dir;
+    if (hash.collides(start, m, r, tip.vessel, tip.sibling) ||
+        hash.collides(m, b, r, tip.vessel, tip.sibling))
+      return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 int growNetwork(const NetworkOptions& options, Centerline* c) {
@@ -127,58 +171,25 @@ int growNetwork(const NetworkOptions& options, Centerline* c) {
     const Tip tip = queue.front();
     queue.pop_front();
     if (tip.r < options.min_radius * 1.26) continue;  // daughters would be too thin
-    bool done = false;
-    for (int attempt = 0; attempt < 8 && !done; ++attempt) {
-      const double gamma = uni.between(0.6, 1.0);  // r2 / r1
-      const double r1 = tip.r / std::cbrt(1.0 + gamma * gamma * gamma);
-      const double r2 = gamma * r1;
-      auto murray = [&](double ra, double rb) {
-        const double cosv = (std::pow(tip.r, 4) + std::pow(ra, 4) - std::pow(rb, 4)) /
-                            (2.0 * tip.r * tip.r * ra * ra);
-        return std::acos(std::clamp(cosv, -1.0, 1.0));
-      };
-      const double turn = (90.0 + uni.between(-30.0, 30.0)) * M_PI / 180.0;
-      const Vec3 plane = Eigen::AngleAxisd(turn, tip.dir) * tip.normal;  // bifurcation plane normal
-      const Vec3 side = plane.cross(tip.dir).normalized();
-      struct Child {
-        Vec3 a, m, b, dir;
-        double r;
-      };
-      Child kids[2];
-      bool ok = true;
-      for (int k = 0; k < 2 && ok; ++k) {
-        const double r = k == 0 ? r1 : r2;
-        const double angle = (k == 0 ? 1.0 : -1.0) * murray(r, k == 0 ? r2 : r1);
-        const Vec3 dir = (std::cos(angle) * tip.dir + std::sin(angle) * side).normalized();
-        const double len = uni.between(8.0, 16.0) * r;
-        const Vec3 a = c->position[tip.point];
-        const Vec3 bend = Eigen::AngleAxisd(uni.between(-0.2, 0.2), plane) * dir;
-        const Vec3 m = a + 0.5 * len * dir;
-        const Vec3 b = m + 0.5 * len * bend;
-        if (!options.growth_box.contains(b) || !options.growth_box.contains(m)) ok = false;
-        // Skip the first part near the junction, where the parent and sibling meet.
-        const Vec3 start = a + std::min(0.5 * len, 2.5 * tip.r) * dir;
-        if (ok && (hash.collides(start, m, r, tip.vessel, tip.sibling) ||
-                   hash.collides(m, b, r, tip.vessel, tip.sibling)))
-          ok = false;
-        kids[k] = {a, m, b, bend, r};
-      }
-      if (!ok) continue;
-      const int ids[2] = {next_vessel, next_vessel + 1};
-      next_vessel += 2;
-      for (int k = 0; k < 2; ++k) {
-        const Child& ch = kids[k];
-        const int named = static_cast<int>(c->vessel_names.size());
-        c->vessel_names.push_back(c->vessel_names[tip.named] + (k == 0 ? "_1" : "_2"));
-        const int pm = addPoint(ch.m, ch.r, tip.point, named);
-        const int pb = addPoint(ch.b, ch.r, pm, named);
-        hash.add(ch.a, ch.m, ch.r, ids[k]);
-        hash.add(ch.m, ch.b, ch.r, ids[k]);
-        queue.push_back({pb, ch.dir, plane, ch.r, ids[k], ids[1 - k], named});
-      }
-      added += 2;
-      done = true;
+    Daughter kids[2];
+    Vec3 plane;
+    int attempt = 0;
+    while (attempt < 8 && !proposeBifurcation(tip, options, *c, hash, &uni, kids, &plane))
+      ++attempt;
+    if (attempt == 8) continue;
+    const int ids[2] = {next_vessel, next_vessel + 1};
+    next_vessel += 2;
+    for (int k = 0; k < 2; ++k) {
+      const Daughter& ch = kids[k];
+      const int named = static_cast<int>(c->vessel_names.size());
+      c->vessel_names.push_back(c->vessel_names[tip.named] + (k == 0 ? "_1" : "_2"));
+      const int pm = addPoint(ch.m, ch.r, tip.point, named);
+      const int pb = addPoint(ch.b, ch.r, pm, named);
+      hash.add(ch.a, ch.m, ch.r, ids[k]);
+      hash.add(ch.m, ch.b, ch.r, ids[k]);
+      queue.push_back({pb, ch.dir, plane, ch.r, ids[k], ids[1 - k], named});
     }
+    added += 2;
   }
   return added;
 }

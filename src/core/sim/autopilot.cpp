@@ -237,10 +237,7 @@ std::string Autopilot::retryWhy(const VesselAtlas& atlas, const std::vector<int>
   return retry;
 }
 
-std::string Autopilot::control(const SceneModel& model, SimData* data) {
-  const double t = data->time;
-  if (done()) return "";
-  // The dwell is judged at every step, as the scene's targets are.
+bool Autopilot::judgeDwell(const SceneModel& model, const SimData& data) {
   Target goal;
   goal.spec.vessel = model.atlas->vessels()[target_].name;
   goal.spec.depth = options_.depth;
@@ -249,14 +246,21 @@ std::string Autopilot::control(const SceneModel& model, SimData* data) {
   goal.device = lead_;
   std::vector<std::string> names;
   for (const DeviceModel& m : model.devices) names.push_back(m.name);
-  updateTargets({goal}, data->tips, names, *model.atlas, t, &goal_progress_);
-  if (goal_progress_[0].reached) {
+  updateTargets({goal}, data.tips, names, *model.atlas, data.time, &goal_progress_);
+  return goal_progress_[0].reached;
+}
+
+std::string Autopilot::control(const SceneModel& model, SimData* data) {
+  const double t = data->time;
+  if (done()) return "";
+  // The dwell is judged at every step, as the scene's targets are.
+  if (judgeDwell(model, *data)) {
     phase_ = AutopilotPhase::kReached;
     report_.reached = true;
     report_.reason.clear();
     report_.time = t - start_time_;
     drive(model, data, 0.0, 0.0);
-    return "t=" + std::to_string(t) + " s  reached " + goal.spec.vessel;
+    return "t=" + std::to_string(t) + " s  reached " + model.atlas->vessels()[target_].name;
   }
   if (t + 1e-12 < next_tick_) return "";
   next_tick_ = t + options_.control_period;
@@ -282,6 +286,14 @@ std::string Autopilot::control(const SceneModel& model, SimData* data) {
     const std::string pair = controlPair(model, data, path, t);
     if (stage_ != PairStage::kOver) return pair;
   }
+  return steerLead(model, data, plan, path, at, remaining);
+}
+
+std::string Autopilot::steerLead(const SceneModel& model, SimData* data,
+                                 const std::vector<int>& plan, const std::vector<int>& path,
+                                 const VesselLocation& at, double remaining) {
+  const double t = data->time;
+  const VesselAtlas& atlas = *model.atlas;
   const DeviceState& lead = data->devices[lead_];
   const Aim aim = aimFor(model, *data, lead_, path);
   double turn = aim.wanted ? tipBendAngle(model, *data, lead_, aim.direction) : 0.0;

@@ -183,6 +183,7 @@ void Autopilot::command(const SceneModel& model, SimData* data, int device, Driv
 std::string Autopilot::stageTo(PairStage next, const std::string& what, double t) {
   if (next == stage_) return std::string();
   stage_ = next;
+  stage_since_ = t;
   std::ostringstream line;
   line << "t=" << t << " s  " << what;
   return line.str();
@@ -219,10 +220,11 @@ std::string Autopilot::leadStage(const PairView& v) {
     return stageTo(PairStage::kPark, "wire into the catheter, past the ostium of " + v.branch.name,
                    v.t);
   }
-  // Both advance, the wire 1 cm ahead, its tip turned away from other ostia.
+  // Both advance, the wire 1 cm ahead, its tip turned away from other
+  // ostia, and at a bifurcation toward the plan's daughter.
   const Aim aim = aimFor(v.model, *v.data, lead_, v.path);
-  const double turn =
-      aim.wanted && !aim.toward_path ? tipBendAngle(v.model, *v.data, lead_, aim.direction) : 0.0;
+  const bool steer = aim.wanted && (!aim.toward_path || isTerminalBranch(atlas, v.path[1]));
+  const double turn = steer ? tipBendAngle(v.model, *v.data, lead_, aim.direction) : 0.0;
   const std::vector<int> cath_path = atlas.path(v.cath_at.vessel, target_);
   const Aim cath_aim = aimFor(v.model, *v.data, follow_, cath_path);
   const double cath_turn = cath_aim.wanted && !cath_aim.toward_path
@@ -266,13 +268,20 @@ std::string Autopilot::engageStage(const PairView& v) {
     return stageTo(PairStage::kBackOut,
                    "catheter in " + atlas.vessels()[v.cath_at.vessel].name + "; back out", v.t);
   }
+  if (v.t - stage_since_ > 2.0 * options_.stuck_time) {  // no engagement: lead again
+    const std::string failed = retryOrFail(not_engaged, v.t);
+    if (!failed.empty()) return failed;
+    return stageTo(PairStage::kLead, "the catheter does not engage " + v.branch.name + "; again",
+                   v.t);
+  }
   const double turn = tipBendAngle(v.model, *v.data, follow_, v.take);
   const bool aimed = std::abs(turn) < options_.aim_tolerance;
   // Engage: pull back onto a side branch's ostium; advance into a
-  // bifurcation's branch.
-  const double speed = !aimed       ? 0.0
-                       : v.terminal ? 0.5 * options_.advance_speed
-                                    : -0.5 * options_.retract_speed;
+  // bifurcation's branch. A tip that does not turn within a second (held
+  // by the wall) is moved that way slowly while it turns.
+  const bool probing = !aimed && v.t - stage_since_ > 1.0;
+  const double pace = aimed ? 0.5 : probing ? 0.25 : 0.0;
+  const double speed = v.terminal ? pace * options_.advance_speed : -pace * options_.retract_speed;
   command(v.model, v.data, follow_, kVel, speed, options_.rotation_gain * turn);
   command(v.model, v.data, lead_, kPos, v.cath.inserted_length - 0.005, v.wire.rotation_angle);
   return stageTo(PairStage::kEngage, "", v.t);

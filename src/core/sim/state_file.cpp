@@ -123,19 +123,125 @@ bool saveState(const SceneModel& model, const SimData& data, const std::string& 
   return std::fclose(f) == 0 && ok;
 }
 
+namespace {
+
+/// A state read whole before it replaces the data's (on any error the data
+/// are unchanged).
+struct LoadedState {
+  double time{0.0};
+  long step{0};
+  size_t next_script_entry{0};
+  std::vector<DeviceState> devices;
+  std::vector<DriveCommand> commands;
+  std::vector<Contact> contacts;
+  int resting_steps{0};
+  bool asleep{false};
+};
+
+/// The `clock` record: time, step, script position (and from version 2
+/// the sleep counters).
+void readClock(const SceneModel& model, long version, Reader* r, LoadedState* next) {
+  r->record("clock");
+  next->time = r->real("time");
+  if (next->time < 0.0) r->fail("time", "must not be negative");
+  next->step = r->integer("step", 0, 1L << 50);
+  next->next_script_entry = static_cast<size_t>(
+      r->integer("next script entry", 0, static_cast<long>(model.script.size())));
+  if (version >= 2) {
+    next->resting_steps = static_cast<int>(r->integer("resting steps", 0, 1000000000));
+    next->asleep = r->integer("asleep", 0, 1) == 1;
+  }
+  r->end("clock");
+}
+
+/// Device d's `device` record and its nodes' records.
+void readDevice(const SceneModel& model, int d, Reader* r, DeviceState* s) {
+  r->record("device");
+  const std::string name = r->word("device name");
+  if (name != model.devices[d].name)
+    r->fail("device name", "'" + name + "', the scene's device " + std::to_string(d) + " is '" +
+                               model.devices[d].name + "'");
+  const long nodes = static_cast<long>(s->position.size());
+  r->integer("nodes", nodes, nodes);
+  s->inserted_length = r->real("inserted length");
+  if (s->inserted_length < 0.0 || s->inserted_length > model.devices[d].length * (1.0 + 1e-12))
+    r->fail("inserted length", "must lie in [0, " + std::to_string(model.devices[d].length) +
+                                   "] m (the device's length)");
+  s->rotation_angle = r->real("rotation angle");
+  s->released = r->integer("released", 0, 1) == 1;
+  s->cut_element = static_cast<int>(r->integer("cut element", -1, nodes - 2));
+  r->end("device");
+  for (long i = 0; i < nodes; ++i) {
+    r->record("node");
+    s->position[i] = r->vec3("position");
+    const double w = r->real("rotation"), x = r->real("rotation"), y = r->real("rotation"),
+                 z = r->real("rotation");
+    s->rotation[i] = Quat(w, x, y, z);
+    if (std::abs(s->rotation[i].norm() - 1.0) > 1e-9) r->fail("rotation", "not a unit quaternion");
+    s->velocity[i] = r->vec3("velocity");
+    s->angular_velocity[i] = r->vec3("angular velocity");
+    r->end("node");
+  }
+}
+
+/// Device d's `command` record, checked against the device's limits.
+void readCommand(const SceneModel& model, int d, Reader* r, DriveCommand* c) {
+  r->record("command");
+  c->mode =
+      r->integer("mode", 0, 1) == 1 ? DriveCommand::Mode::kPosition : DriveCommand::Mode::kVelocity;
+  c->insertion = r->real("insertion");
+  c->rotation = r->real("rotation");
+  const std::string why = validateDriveCommand(*c, model.devices[d]);
+  if (!why.empty()) r->fail("command", why);
+  r->end("command");
+}
+
+/// The `contacts` count and one `contact` record each.
+std::vector<Contact> readContacts(const SceneModel& model, Reader* r) {
+  const int nd = static_cast<int>(model.devices.size());
+  r->record("contacts");
+  // At most a wall, a pair and a lumen contact per sample point, and their
+  // second planes: a larger count is damage, not a state (and would
+  // allocate gigabytes).
+  long samples = 0;
+  for (const auto& s : model.samples) samples += static_cast<long>(s.size());
+  const long count = r->integer("contacts", 0, 6 * samples + 16);
+  r->end("contacts");
+  std::vector<Contact> contacts(count);
+  for (Contact& c : contacts) {
+    r->record("contact");
+    c.device = static_cast<int>(r->integer("device", 0, nd - 1));
+    c.sample = static_cast<int>(
+        r->integer("sample", 0, static_cast<long>(model.samples[c.device].size()) - 1));
+    c.point = r->vec3("point");
+    c.normal = r->vec3("normal");
+    c.gap = r->real("gap");
+    c.force = r->real("force");
+    c.other_device = static_cast<int>(r->integer("other device", -1, nd - 1));
+    const long other_samples =
+        c.other_device < 0 ? 0 : static_cast<long>(model.samples[c.other_device].size());
+    c.other_sample = static_cast<int>(r->integer("other sample", -1, other_samples - 1));
+    c.friction = r->vec3("friction");
+    const long other_elements =
+        c.other_device < 0 ? 1 : static_cast<long>(model.devices[c.other_device].elements.size());
+    c.other.element = static_cast<int>(r->integer("other element", 0, other_elements - 1));
+    c.other.xi = r->real("other xi");
+    c.other.radius = r->real("other radius");
+    c.other.friction = r->real("other mu");
+    c.separation = r->real("separation");
+    c.lumen = r->integer("lumen", 0, 1) == 1;
+    r->end("contact");
+  }
+  return contacts;
+}
+
+}  // namespace
+
 void loadState(const SceneModel& model, const std::string& path, SimData* data) {
   Reader r(path);
-  // Filled here, then moved in whole: on any error `data` is unchanged.
-  struct {
-    double time;
-    long step;
-    size_t next_script_entry;
-    std::vector<DeviceState> devices;
-    std::vector<DriveCommand> commands;
-    std::vector<Contact> contacts;
-    int resting_steps;
-    bool asleep;
-  } next{0.0, 0, 0, data->devices, data->commands, {}, 0, false};
+  LoadedState next;
+  next.devices = data->devices;
+  next.commands = data->commands;
   r.record("evsim_state");
   const long version = r.integer("version", 1, kVersion);
   r.end("evsim_state");
@@ -143,91 +249,11 @@ void loadState(const SceneModel& model, const std::string& path, SimData* data) 
   const std::string scene = r.word("scene");
   if (scene != model.name) r.fail("scene", "saved from '" + scene + "', not '" + model.name + "'");
   r.end("scene");
-  r.record("clock");
-  next.time = r.real("time");
-  if (next.time < 0.0) r.fail("time", "must not be negative");
-  next.step = r.integer("step", 0, 1L << 50);
-  next.next_script_entry = static_cast<size_t>(
-      r.integer("next script entry", 0, static_cast<long>(model.script.size())));
-  if (version >= 2) {
-    next.resting_steps = static_cast<int>(r.integer("resting steps", 0, 1000000000));
-    next.asleep = r.integer("asleep", 0, 1) == 1;
-  }
-  r.end("clock");
+  readClock(model, version, &r, &next);
   const int nd = static_cast<int>(model.devices.size());
-  for (int d = 0; d < nd; ++d) {
-    DeviceState& s = next.devices[d];
-    r.record("device");
-    const std::string name = r.word("device name");
-    if (name != model.devices[d].name)
-      r.fail("device name", "'" + name + "', the scene's device " + std::to_string(d) + " is '" +
-                                model.devices[d].name + "'");
-    const long nodes = static_cast<long>(s.position.size());
-    r.integer("nodes", nodes, nodes);
-    s.inserted_length = r.real("inserted length");
-    if (s.inserted_length < 0.0 || s.inserted_length > model.devices[d].length * (1.0 + 1e-12))
-      r.fail("inserted length", "must lie in [0, " + std::to_string(model.devices[d].length) +
-                                    "] m (the device's length)");
-    s.rotation_angle = r.real("rotation angle");
-    s.released = r.integer("released", 0, 1) == 1;
-    s.cut_element = static_cast<int>(r.integer("cut element", -1, nodes - 2));
-    r.end("device");
-    for (long i = 0; i < nodes; ++i) {
-      r.record("node");
-      s.position[i] = r.vec3("position");
-      const double w = r.real("rotation"), x = r.real("rotation"), y = r.real("rotation"),
-                   z = r.real("rotation");
-      s.rotation[i] = Quat(w, x, y, z);
-      if (std::abs(s.rotation[i].norm() - 1.0) > 1e-9) r.fail("rotation", "not a unit quaternion");
-      s.velocity[i] = r.vec3("velocity");
-      s.angular_velocity[i] = r.vec3("angular velocity");
-      r.end("node");
-    }
-  }
-  for (int d = 0; d < nd; ++d) {
-    r.record("command");
-    DriveCommand& c = next.commands[d];
-    c.mode = r.integer("mode", 0, 1) == 1 ? DriveCommand::Mode::kPosition
-                                          : DriveCommand::Mode::kVelocity;
-    c.insertion = r.real("insertion");
-    c.rotation = r.real("rotation");
-    const std::string why = validateDriveCommand(c, model.devices[d]);
-    if (!why.empty()) r.fail("command", why);
-    r.end("command");
-  }
-  r.record("contacts");
-  // At most a wall, a pair and a lumen contact per sample point, and their
-  // second planes: a larger count is damage, not a state (and would
-  // allocate gigabytes).
-  long samples = 0;
-  for (const auto& s : model.samples) samples += static_cast<long>(s.size());
-  const long count = r.integer("contacts", 0, 6 * samples + 16);
-  r.end("contacts");
-  next.contacts.assign(count, Contact{});
-  for (Contact& c : next.contacts) {
-    r.record("contact");
-    c.device = static_cast<int>(r.integer("device", 0, nd - 1));
-    c.sample = static_cast<int>(
-        r.integer("sample", 0, static_cast<long>(model.samples[c.device].size()) - 1));
-    c.point = r.vec3("point");
-    c.normal = r.vec3("normal");
-    c.gap = r.real("gap");
-    c.force = r.real("force");
-    c.other_device = static_cast<int>(r.integer("other device", -1, nd - 1));
-    const long other_samples =
-        c.other_device < 0 ? 0 : static_cast<long>(model.samples[c.other_device].size());
-    c.other_sample = static_cast<int>(r.integer("other sample", -1, other_samples - 1));
-    c.friction = r.vec3("friction");
-    const long other_elements =
-        c.other_device < 0 ? 1 : static_cast<long>(model.devices[c.other_device].elements.size());
-    c.other.element = static_cast<int>(r.integer("other element", 0, other_elements - 1));
-    c.other.xi = r.real("other xi");
-    c.other.radius = r.real("other radius");
-    c.other.friction = r.real("other mu");
-    c.separation = r.real("separation");
-    c.lumen = r.integer("lumen", 0, 1) == 1;
-    r.end("contact");
-  }
+  for (int d = 0; d < nd; ++d) readDevice(model, d, &r, &next.devices[d]);
+  for (int d = 0; d < nd; ++d) readCommand(model, d, &r, &next.commands[d]);
+  next.contacts = readContacts(model, &r);
   data->devices.swap(next.devices);
   data->commands.swap(next.commands);
   data->contacts.swap(next.contacts);
