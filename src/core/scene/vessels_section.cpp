@@ -22,6 +22,112 @@ Mat3 introducerFrame(const Vec3& direction, const Vec3& up) {
   return R;
 }
 
+namespace {
+
+/// `units`: declared, never guessed (m, cm, mm or um) [m per file unit].
+double readUnits(const YamlReader& r, const YAML::Node& units) {
+  const std::string u = r.text(units, "vessels.units");
+  if (u == "m") return 1.0;
+  if (u == "cm") return 1e-2;
+  if (u == "mm") return 1e-3;
+  if (u == "um") return 1e-6;
+  r.fail(units, "vessels.units", "must be m, cm, mm or um");  // (does not return)
+}
+
+/// `names`: branch id -> vessel name, each name once.
+void readBranchNames(const YamlReader& r, const YAML::Node& names, CenterlineTreeOptions* tree) {
+  if (!names.IsMap()) r.fail(names, "vessels.names", "must map branch ids to vessel names");
+  for (const auto& kv : names) {
+    const int id = r.integer(kv.first, "vessels.names");
+    if (id < 0) r.fail(kv.first, "vessels.names", "branch ids are >= 0");
+    const std::string name = r.text(kv.second, "vessels.names." + std::to_string(id));
+    if (!isVesselName(name))
+      r.fail(kv.second, "vessels.names." + std::to_string(id),
+             "'" + name + "' is not a vessel name ([a-z][a-z0-9_]*)");
+    for (const auto& [other, taken] : tree->names)
+      if (taken == name)
+        r.fail(kv.second, "vessels.names." + std::to_string(id),
+               "'" + name + "' also names branch " + std::to_string(other));
+    tree->names[id] = name;
+  }
+}
+
+/// The keys of a VTK centreline: radius array, simplification tolerances,
+/// inlet, branch names (refused for an SWC file).
+void readVtkOptions(const YamlReader& r, const YAML::Node& n, bool vtk, VesselSpec* v) {
+  for (const char* key : {"radius_array", "tolerance", "radius_tolerance", "inlet", "names"})
+    if (n[key] && !vtk)
+      r.fail(n[key], std::string("vessels.") + key, "applies to a VTK centreline (.vtp, .vtk)");
+  if (n["radius_array"]) v->radius_array = r.text(n["radius_array"], "vessels.radius_array");
+  v->tree.tolerance = 1e-3 * r.number(n, "tolerance", "vessels.", v->tree.tolerance * 1e3);
+  if (!(v->tree.tolerance >= 1e-6 && v->tree.tolerance <= 1e-3))
+    r.fail(n["tolerance"], "vessels.tolerance", "must lie in [0.001, 1] mm");
+  v->tree.radius_tolerance = r.number(n, "radius_tolerance", "vessels.", v->tree.radius_tolerance);
+  if (!(v->tree.radius_tolerance >= 0.001 && v->tree.radius_tolerance <= 0.2))
+    r.fail(n["radius_tolerance"], "vessels.radius_tolerance", "must lie in [0.001, 0.2]");
+  if (n["inlet"]) {
+    v->tree.has_inlet = true;
+    v->tree.inlet = v->units * r.vector3(n["inlet"], "vessels.inlet");
+  }
+  if (n["names"]) readBranchNames(r, n["names"], &v->tree);
+}
+
+/// `network: {seed, vessels, min_radius}`.
+void readNetwork(const YamlReader& r, const YAML::Node& g, VesselSpec* v) {
+  r.keys(g, "vessels.network", {"seed", "vessels", "min_radius"});
+  v->grow_network = true;
+  const double seed =
+      r.number(r.required(g, "seed", "vessels.network.seed"), "vessels.network.seed");
+  const double count =
+      r.number(r.required(g, "vessels", "vessels.network.vessels"), "vessels.network.vessels");
+  if (seed < 0 || seed != std::floor(seed))
+    r.fail(g["seed"], "vessels.network.seed", "must be a whole number >= 0");
+  if (count < 0 || count > 100000 || count != std::floor(count))
+    r.fail(g["vessels"], "vessels.network.vessels", "must be a whole number in [0, 100000]");
+  v->network.seed = static_cast<uint64_t>(seed);
+  v->network.vessels = static_cast<int>(count);
+  v->network.min_radius = r.number(g, "min_radius", "vessels.network.", v->network.min_radius);
+  if (!(v->network.min_radius > 0.0))
+    r.fail(g["min_radius"], "vessels.network.min_radius", "must be positive");
+}
+
+/// `aneurysms: [{center, radius}, ...]`.
+void readAneurysms(const YamlReader& r, const YAML::Node& list, VesselSpec* v) {
+  if (!list.IsSequence()) r.fail(list, "vessels.aneurysms", "must be a list");
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string p = "vessels.aneurysms[" + std::to_string(i) + "].";
+    r.keys(list[i], p.substr(0, p.size() - 1), {"center", "radius"});
+    AneurysmSpec a;
+    a.center = r.vector3(r.required(list[i], "center", p + "center"), p + "center");
+    a.radius = r.number(r.required(list[i], "radius", p + "radius"), p + "radius");
+    if (!(a.radius > 0.0)) r.fail(list[i]["radius"], p + "radius", "must be positive");
+    v->aneurysms.push_back(a);
+  }
+}
+
+/// `motion: [{center, radius, amplitude, frequency, phase}, ...]`.
+void readMotion(const YamlReader& r, const YAML::Node& list, VesselSpec* v) {
+  if (!list.IsSequence()) r.fail(list, "vessels.motion", "must be a list of regions");
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string p = "vessels.motion[" + std::to_string(i) + "].";
+    r.keys(list[i], p.substr(0, p.size() - 1),
+           {"center", "radius", "amplitude", "frequency", "phase"});
+    MotionRegion m;
+    m.center = r.vector3(r.required(list[i], "center", p + "center"), p + "center");
+    m.radius = r.number(r.required(list[i], "radius", p + "radius"), p + "radius");
+    m.amplitude = r.vector3(r.required(list[i], "amplitude", p + "amplitude"), p + "amplitude");
+    m.frequency = r.number(r.required(list[i], "frequency", p + "frequency"), p + "frequency");
+    m.phase = r.number(list[i], "phase", p, 0.0);
+    if (!(m.radius > 0.0)) r.fail(list[i]["radius"], p + "radius", "must be positive");
+    if (!(m.frequency > 0.0 && m.frequency <= 10.0))
+      r.fail(list[i]["frequency"], p + "frequency", "must lie in (0, 10] Hz");
+    if (m.amplitude.norm() > 0.03) r.fail(list[i]["amplitude"], p + "amplitude", "is above 30 mm");
+    v->motion.push_back(m);
+  }
+}
+
+}  // namespace
+
 VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path& scene_dir) {
   VesselSpec v;
   v.present = true;
@@ -38,105 +144,14 @@ VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path&
     r.fail(n["centerline"], "vessels.units",
            "a VTK centreline needs its units declared (m, cm, mm or um): SimVascular models are "
            "in cm, most VMTK output in mm");
-  if (n["units"]) {
-    const std::string u = r.text(n["units"], "vessels.units");
-    if (u == "m")
-      v.units = 1.0;
-    else if (u == "cm")
-      v.units = 1e-2;
-    else if (u == "mm")
-      v.units = 1e-3;
-    else if (u == "um")
-      v.units = 1e-6;
-    else
-      r.fail(n["units"], "vessels.units", "must be m, cm, mm or um");
-  }
-  for (const char* key : {"radius_array", "tolerance", "radius_tolerance", "inlet", "names"})
-    if (n[key] && !vtk)
-      r.fail(n[key], std::string("vessels.") + key, "applies to a VTK centreline (.vtp, .vtk)");
-  if (n["radius_array"]) v.radius_array = r.text(n["radius_array"], "vessels.radius_array");
-  v.tree.tolerance = 1e-3 * r.number(n, "tolerance", "vessels.", v.tree.tolerance * 1e3);
-  if (!(v.tree.tolerance >= 1e-6 && v.tree.tolerance <= 1e-3))
-    r.fail(n["tolerance"], "vessels.tolerance", "must lie in [0.001, 1] mm");
-  v.tree.radius_tolerance = r.number(n, "radius_tolerance", "vessels.", v.tree.radius_tolerance);
-  if (!(v.tree.radius_tolerance >= 0.001 && v.tree.radius_tolerance <= 0.2))
-    r.fail(n["radius_tolerance"], "vessels.radius_tolerance", "must lie in [0.001, 0.2]");
-  if (n["inlet"]) {
-    v.tree.has_inlet = true;
-    v.tree.inlet = v.units * r.vector3(n["inlet"], "vessels.inlet");
-  }
-  if (n["names"]) {
-    const YAML::Node names = n["names"];
-    if (!names.IsMap()) r.fail(names, "vessels.names", "must map branch ids to vessel names");
-    for (const auto& kv : names) {
-      const int id = r.integer(kv.first, "vessels.names");
-      if (id < 0) r.fail(kv.first, "vessels.names", "branch ids are >= 0");
-      const std::string name = r.text(kv.second, "vessels.names." + std::to_string(id));
-      if (!isVesselName(name))
-        r.fail(kv.second, "vessels.names." + std::to_string(id),
-               "'" + name + "' is not a vessel name ([a-z][a-z0-9_]*)");
-      for (const auto& [other, taken] : v.tree.names)
-        if (taken == name)
-          r.fail(kv.second, "vessels.names." + std::to_string(id),
-                 "'" + name + "' also names branch " + std::to_string(other));
-      v.tree.names[id] = name;
-    }
-  }
+  if (n["units"]) v.units = readUnits(r, n["units"]);
+  readVtkOptions(r, n, vtk, &v);
   v.field.alpha = r.number(n, "blend", "vessels.", 0.6);
   if (!(v.field.alpha >= 0.3 && v.field.alpha <= 0.95))
     r.fail(n["blend"], "vessels.blend", "must lie in [0.3, 0.95]");
-  if (n["network"]) {
-    const YAML::Node g = n["network"];
-    r.keys(g, "vessels.network", {"seed", "vessels", "min_radius"});
-    v.grow_network = true;
-    const double seed =
-        r.number(r.required(g, "seed", "vessels.network.seed"), "vessels.network.seed");
-    const double count =
-        r.number(r.required(g, "vessels", "vessels.network.vessels"), "vessels.network.vessels");
-    if (seed < 0 || seed != std::floor(seed))
-      r.fail(g["seed"], "vessels.network.seed", "must be a whole number >= 0");
-    if (count < 0 || count > 100000 || count != std::floor(count))
-      r.fail(g["vessels"], "vessels.network.vessels", "must be a whole number in [0, 100000]");
-    v.network.seed = static_cast<uint64_t>(seed);
-    v.network.vessels = static_cast<int>(count);
-    v.network.min_radius = r.number(g, "min_radius", "vessels.network.", v.network.min_radius);
-    if (!(v.network.min_radius > 0.0))
-      r.fail(g["min_radius"], "vessels.network.min_radius", "must be positive");
-  }
-  if (n["aneurysms"]) {
-    const YAML::Node list = n["aneurysms"];
-    if (!list.IsSequence()) r.fail(list, "vessels.aneurysms", "must be a list");
-    for (size_t i = 0; i < list.size(); ++i) {
-      const std::string p = "vessels.aneurysms[" + std::to_string(i) + "].";
-      r.keys(list[i], p.substr(0, p.size() - 1), {"center", "radius"});
-      AneurysmSpec a;
-      a.center = r.vector3(r.required(list[i], "center", p + "center"), p + "center");
-      a.radius = r.number(r.required(list[i], "radius", p + "radius"), p + "radius");
-      if (!(a.radius > 0.0)) r.fail(list[i]["radius"], p + "radius", "must be positive");
-      v.aneurysms.push_back(a);
-    }
-  }
-  if (n["motion"]) {
-    const YAML::Node list = n["motion"];
-    if (!list.IsSequence()) r.fail(list, "vessels.motion", "must be a list of regions");
-    for (size_t i = 0; i < list.size(); ++i) {
-      const std::string p = "vessels.motion[" + std::to_string(i) + "].";
-      r.keys(list[i], p.substr(0, p.size() - 1),
-             {"center", "radius", "amplitude", "frequency", "phase"});
-      MotionRegion m;
-      m.center = r.vector3(r.required(list[i], "center", p + "center"), p + "center");
-      m.radius = r.number(r.required(list[i], "radius", p + "radius"), p + "radius");
-      m.amplitude = r.vector3(r.required(list[i], "amplitude", p + "amplitude"), p + "amplitude");
-      m.frequency = r.number(r.required(list[i], "frequency", p + "frequency"), p + "frequency");
-      m.phase = r.number(list[i], "phase", p, 0.0);
-      if (!(m.radius > 0.0)) r.fail(list[i]["radius"], p + "radius", "must be positive");
-      if (!(m.frequency > 0.0 && m.frequency <= 10.0))
-        r.fail(list[i]["frequency"], p + "frequency", "must lie in (0, 10] Hz");
-      if (m.amplitude.norm() > 0.03)
-        r.fail(list[i]["amplitude"], p + "amplitude", "is above 30 mm");
-      v.motion.push_back(m);
-    }
-  }
+  if (n["network"]) readNetwork(r, n["network"], &v);
+  if (n["aneurysms"]) readAneurysms(r, n["aneurysms"], &v);
+  if (n["motion"]) readMotion(r, n["motion"], &v);
   return v;
 }
 
