@@ -15,22 +15,57 @@
 
 namespace evsim {
 
-int runScene(const RunOptions& o) {
-  for (const std::string* path : {&o.save_state}) {
-    if (path->empty()) continue;
-    const std::string why = checkWritableFile(*path);
-    if (!why.empty()) {
-      std::cerr << "evsim: --save-state: " << why << "\n";
-      return kExitBadInput;
-    }
+namespace {
+
+/// The output paths checked before the run (a bad one is refused before
+/// any step, not after the whole run): "" or what is wrong.
+std::string checkOutputs(const RunOptions& o) {
+  if (!o.save_state.empty()) {
+    const std::string why = checkWritableFile(o.save_state);
+    if (!why.empty()) return "--save-state: " + why;
   }
   for (const auto& [flag, folder] : {std::pair{"--dump-lcp", &o.dump_lcp}, {"--vtk", &o.vtk}}) {
     if (folder->empty()) continue;
     const std::string why = prepareOutputFolder(*folder);
-    if (!why.empty()) {
-      std::cerr << "evsim: " << flag << ": " << why << "\n";
-      return kExitBadInput;
-    }
+    if (!why.empty()) return std::string(flag) + ": " + why;
+  }
+  return "";
+}
+
+/// The progress line: the first device's insertion and tip, every tip's
+/// vessel, the contacts and the mean step time.
+void printProgress(const SceneModel& model, const SimData& data, double mean_step_ms) {
+  const DeviceState& d = data.devices.front();
+  const Vec3& tip = d.position.back();
+  std::cout << "t=" << data.time << " s  " << model.devices.front().name
+            << " inserted=" << d.inserted_length * 1e3 << " mm  tip=(" << tip.x() * 1e3 << ", "
+            << tip.y() * 1e3 << ", " << tip.z() * 1e3 << ") mm";
+  if (model.atlas)
+    for (size_t i = 0; i < data.tips.size(); ++i)
+      std::cout << "  " << model.devices[i].name << " in "
+                << model.atlas->vessels()[data.tips[i].vessel].name << " at "
+                << data.tips[i].depth * 1e3 << " mm";
+  std::cout << "  contacts=" << data.stats.contacts << "  mean step " << mean_step_ms << " ms"
+            << (data.stats.asleep ? "  asleep" : "") << "\n";
+}
+
+/// The step's LCP written to the --dump-lcp folder; false when it cannot be.
+bool dumpLcp(const RunOptions& o, const SimData& data) {
+  if (!data.record_lcp || data.lcp.q.size() == 0) return true;
+  char name[64];
+  std::snprintf(name, sizeof(name), "/step_%07ld.lcp", data.step);
+  if (writeLcpRecord(data.lcp, o.dump_lcp + name)) return true;
+  std::cerr << "evsim: cannot write " << o.dump_lcp + name << "\n";
+  return false;
+}
+
+}  // namespace
+
+int runScene(const RunOptions& o) {
+  const std::string bad_output = checkOutputs(o);
+  if (!bad_output.empty()) {
+    std::cerr << "evsim: " << bad_output << "\n";
+    return kExitBadInput;
   }
   const SceneModel model = loadScene(o.scene);  // LoadError: main reports it
   SimData data = makeData(model);
@@ -71,30 +106,11 @@ int runScene(const RunOptions& o) {
     data.notices.clear();
     wall_ms += data.stats.wall_ms;
     if (data.step % frame_every == 0 && !frame()) return kExitFailure;
-    if (data.record_lcp && data.lcp.q.size() > 0) {
-      char name[64];
-      std::snprintf(name, sizeof(name), "/step_%07ld.lcp", data.step);
-      if (!writeLcpRecord(data.lcp, o.dump_lcp + name)) {
-        std::cerr << "evsim: cannot write " << o.dump_lcp + name << "\n";
-        return kExitFailure;
-      }
-    }
-    if (o.json) {
+    if (!dumpLcp(o, data)) return kExitFailure;
+    if (o.json)
       std::cout << stepJson(model, data) << "\n";
-    } else if (data.step % report_every == 0 || k + 1 == steps) {
-      const DeviceState& d = data.devices.front();
-      const Vec3& tip = d.position.back();
-      std::cout << "t=" << data.time << " s  " << model.devices.front().name
-                << " inserted=" << d.inserted_length * 1e3 << " mm  tip=(" << tip.x() * 1e3 << ", "
-                << tip.y() * 1e3 << ", " << tip.z() * 1e3 << ") mm";
-      if (model.atlas)
-        for (size_t i = 0; i < data.tips.size(); ++i)
-          std::cout << "  " << model.devices[i].name << " in "
-                    << model.atlas->vessels()[data.tips[i].vessel].name << " at "
-                    << data.tips[i].depth * 1e3 << " mm";
-      std::cout << "  contacts=" << data.stats.contacts << "  mean step " << wall_ms / (k + 1)
-                << " ms" << (data.stats.asleep ? "  asleep" : "") << "\n";
-    }
+    else if (data.step % report_every == 0 || k + 1 == steps)
+      printProgress(model, data, wall_ms / (k + 1));
   }
   std::string why;
   if (!o.vtk.empty() && !frames.finish(&why)) {
