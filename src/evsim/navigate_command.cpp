@@ -1,5 +1,6 @@
 // `evsim navigate`: the autopilot (sim/autopilot.h) headless: a line per
 // phase, then the summary as one JSON object, on stdout.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -25,14 +26,16 @@ int navigateScene(const NavigateOptions& o) {
   // Without --target: the scene's first target (a procedure scene has one).
   std::string target = o.target, device = o.device;
   if (target.empty()) {
-    if (model.targets.empty()) {
+    const auto vessel_target = std::find_if(model.targets.begin(), model.targets.end(),
+                                            [](const Target& t) { return t.spec.aneurysm < 0; });
+    if (vessel_target == model.targets.end()) {
       std::cerr << "evsim: navigate: scene '" << model.name
                 << "' names no targets: give one with --target NAME (evsim vessels " << o.scene
                 << " lists its vessels)\n";
       return kExitBadInput;
     }
-    target = model.targets.front().spec.vessel;
-    if (device.empty()) device = model.targets.front().spec.device;
+    target = vessel_target->spec.vessel;
+    if (device.empty()) device = vessel_target->spec.device;
   }
   SimData data = makeData(model);
   AutopilotOptions options;

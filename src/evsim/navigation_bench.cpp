@@ -74,6 +74,7 @@ std::vector<Case> archCases(const NavigationBenchOptions& o) {
       throw LoadError(model.file, 0, "targets", "the scene names no targets to navigate to");
     const SimData data = makeData(model);
     for (const Target& t : model.targets) {
+      if (t.spec.aneurysm >= 0) continue;  // (a coil's target: not the autopilot's)
       const int d = t.device >= 0 ? t.device : 0;
       cases.push_back({"arch", scene, t.spec.vessel, t.spec.device,
                        branchingsAlong(*model.atlas, data.tips[d].vessel, t.vessel)});

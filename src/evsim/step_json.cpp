@@ -58,10 +58,18 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
     o << ",\"targets\":[";
     for (size_t k = 0; k < model.targets.size(); ++k) {
       const TargetProgress p = k < data.targets.size() ? data.targets[k] : TargetProgress{};
-      o << (k ? "," : "") << "{\"vessel\":\"" << model.targets[k].spec.vessel
-        << "\",\"reached\":" << (p.reached ? "true" : "false")
-        << ",\"reached_time\":" << num(p.reached_time) << ",\"best_depth_m\":" << num(p.best_depth)
-        << "}";
+      const TargetSpec& spec = model.targets[k].spec;
+      o << (k ? "," : "") << "{";
+      if (spec.aneurysm >= 0)
+        o << "\"aneurysm\":" << spec.aneurysm;
+      else
+        o << "\"vessel\":\"" << spec.vessel << "\"";
+      o << ",\"reached\":" << (p.reached ? "true" : "false")
+        << ",\"reached_time\":" << num(p.reached_time);
+      if (spec.aneurysm >= 0)
+        o << ",\"best_inside\":" << num(p.best_inside) << "}";
+      else
+        o << ",\"best_depth_m\":" << num(p.best_depth) << "}";
     }
     o << "]";
   }

@@ -201,10 +201,13 @@ void FramePublisher::publishDiagnostics(const FrameSnapshot& f, const LoopTiming
   }
   for (size_t k = 0; k < f.targets.size() && k < f.model->targets.size(); ++k) {
     diagnostic_msgs::KeyValue kv;
-    kv.key = "target " + f.model->targets[k].spec.vessel;
+    kv.key = "target " + f.model->targets[k].spec.label();
     std::ostringstream state;
     if (f.targets[k].reached)
       state << "reached at t = " << f.targets[k].reached_time << " s";
+    else if (f.model->targets[k].spec.aneurysm >= 0)
+      state << "not reached (at most " << std::lround(100.0 * f.targets[k].best_inside)
+            << " % of the coil inside)";
     else
       state << "not reached (deepest " << f.targets[k].best_depth * 1e3 << " mm)";
     kv.value = state.str();

@@ -70,10 +70,20 @@ visualization_msgs::Marker deviceTube(const DeviceModel& model, const DeviceStat
 
 namespace {
 
-/// A target vessel's centreline as a thick line: amber until reached, then green.
+/// A target vessel's centreline as a thick line (an aneurysm target: its
+/// dome as a sphere): amber until reached, then green.
 visualization_msgs::Marker targetMarker(const SceneModel& model, size_t k, bool reached,
                                         const std_msgs::Header& header) {
   const Target& target = model.targets[k];
+  if (target.vessel < 0) {
+    visualization_msgs::Marker dome =
+        marker(header, "targets", static_cast<int>(k), visualization_msgs::Marker::SPHERE);
+    dome.pose.position = toPoint(target.center);
+    dome.pose.orientation.w = 1.0;
+    dome.scale.x = dome.scale.y = dome.scale.z = 2.0 * target.radius;
+    dome.color = reached ? color(0.2f, 0.85f, 0.3f, 0.3f) : color(1.0f, 0.65f, 0.1f, 0.3f);
+    return dome;
+  }
   const NamedVessel& v = model.atlas->vessels()[target.vessel];
   visualization_msgs::Marker line =
       marker(header, "targets", static_cast<int>(k), visualization_msgs::Marker::LINE_STRIP);

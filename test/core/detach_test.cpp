@@ -3,9 +3,15 @@
 // separates from the coil, which is left free.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
 
+#include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/geometry/centerline.h"
 #include "endovascular_sim/mechanics/elasticity.h"
 #include "endovascular_sim/scene/scene_file.h"
 #include "endovascular_sim/sim/simulation.h"
@@ -89,6 +95,94 @@ TEST(Detach, CoilingSurvivesSmallChangesOfTheInsertionSpeed) {
     }
     std::printf("[ metric   ] insertion speed x%.2f: 1,700 steps solved, %d subdivided\n", factor,
                 subdivided);
+  }
+}
+
+/// Distance [m] from p to the nearest segment of an SWC polyline, and that
+/// segment's radius.
+std::pair<double, double> nearestSegment(const Centerline& c, const Vec3& p) {
+  std::pair<double, double> best{1e9, 0.0};
+  for (int i = 0; i < c.numPoints(); ++i) {
+    if (c.parent[i] < 0) continue;
+    const Vec3 a = c.position[c.parent[i]], b = c.position[i];
+    const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    const double d = (p - a - t * (b - a)).norm();
+    if (d < best.first) best = {d, c.radius[i]};
+  }
+  return best;
+}
+
+// The scene's target: the detached coil in the aneurysm's sac. Judged here
+// from the SWC polyline and the dome's numbers in the scene file, not the
+// atlas the target tracker uses: every coil node outside the parent
+// artery's lumen, and the coil's centroid inside the dome.
+TEST(Detach, TheDetachedCoilLiesInTheSacAndTheTargetSaysSo) {
+  const SceneModel model = loadScene("aneurysm_coiling");
+  ASSERT_EQ(model.targets.size(), 1u);
+  ASSERT_EQ(model.targets[0].spec.aneurysm, 0);
+  SimData data = makeData(model);
+  while (data.time < model.duration - 1e-9)
+    ASSERT_EQ(step(model, &data), StepStatus::kOk) << data.last_error;
+  ASSERT_EQ(data.targets.size(), 1u);
+  EXPECT_TRUE(data.targets[0].reached);
+  EXPECT_GT(data.targets[0].reached_time, 1.65 + 0.5 - 1e-9);  // detached at 1.65 s, then 0.5 s
+  const int coil = findDevice(model, "finishing_coil");
+  const int cut = model.devices[coil].detach_element;
+  const DeviceState& x = data.devices[coil];
+  const Centerline ica = loadCenterlineFile(configDirectory() + "/vessels/aneurysm.swc");
+  const SceneSpec spec = loadSceneFile(resolveScenePath("aneurysm_coiling"));
+  const AneurysmSpec dome = spec.vessels.aneurysms.at(0);
+  double closest_to_ica = 1e9;
+  for (int i = cut + 1; i < static_cast<int>(x.position.size()); ++i) {
+    const auto [d, r] = nearestSegment(ica, x.position[i]);
+    closest_to_ica = std::min(closest_to_ica, d - r);
+  }
+  EXPECT_GT(closest_to_ica, 0.0);  // no node in the parent artery's lumen
+  EXPECT_LT((coilCentroid(x, cut) - dome.center).norm(), dome.radius);
+  std::printf(
+      "[ metric   ] target reached at %.3f s; coil's nearest node %.2f mm outside the ICA lumen; "
+      "centroid %.2f mm from the dome's centre (radius %.2f mm)\n",
+      data.targets[0].reached_time, closest_to_ica * 1e3,
+      (coilCentroid(x, cut) - dome.center).norm() * 1e3, dome.radius * 1e3);
+}
+
+// An aneurysm target names an aneurysm the vessels have and the device of
+// a coil (one that detaches); anything else is refused at load with the
+// file, the line and what is wrong.
+TEST(Detach, AnAneurysmTargetIsCheckedAtLoad) {
+  std::ifstream in(resolveScenePath("aneurysm_coiling"));
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  std::string scene = buffer.str();
+  for (const char* dir : {"../vessels/", "../devices/"}) {
+    const std::string to = configDirectory() + "/" + std::string(dir).substr(3);
+    for (size_t at = scene.find(dir); at != std::string::npos; at = scene.find(dir, at))
+      scene.replace(at, std::strlen(dir), to);
+  }
+  const std::string target = "{aneurysm: 0, device: finishing_coil}";
+  ASSERT_NE(scene.find(target), std::string::npos);
+  struct Case {
+    const char* target;
+    const char* words;
+  } cases[] = {{"{aneurysm: 3, device: finishing_coil}", "an index in [0, 0]"},
+               {"{aneurysm: 0}", "names the coil's device"},
+               {"{aneurysm: 0, device: microcatheter}", "no section that detaches"},
+               {"{aneurysm: 0, vessel: internal_carotid, device: finishing_coil}",
+                "a vessel or an aneurysm"},
+               {"{aneurysm: 0, depth: 0.01, device: finishing_coil}", "applies to a vessel"}};
+  const std::string path = ::testing::TempDir() + "/coiling_target.yaml";
+  for (const Case& k : cases) {
+    std::string text = scene;
+    text.replace(text.find(target), target.size(), k.target);
+    std::ofstream(path) << text;
+    try {
+      loadScene(path);
+      ADD_FAILURE() << "accepted " << k.target;
+    } catch (const LoadError& e) {
+      EXPECT_NE(std::string(e.what()).find(k.words), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("targets[0]"), std::string::npos) << e.what();
+      EXPECT_GT(e.line(), 0) << e.what();
+    }
   }
 }
 

@@ -174,16 +174,21 @@ TEST(Targets, ReachedAfterTheDwellAndABreakRestartsIt) {
     l.inside = inside;
     return std::vector<VesselLocation>{l};
   };
-  const std::vector<std::string> names = {"wire"};
+  std::vector<DeviceModel> models(1);
+  models[0].name = "wire";
+  const std::vector<DeviceState> devices(1);  // (a vessel target judges the tips alone)
+  auto update = [&](double depth, double time) {
+    return updateTargets({target}, at(depth, true), models, devices, atlas, time, &progress);
+  };
   double t = 0.0;
-  for (; t < 0.3; t += 0.01) updateTargets({target}, at(0.025, true), names, atlas, t, &progress);
+  for (; t < 0.3; t += 0.01) update(0.025, t);
   EXPECT_FALSE(progress[0].reached);
-  updateTargets({target}, at(0.015, true), names, atlas, t, &progress);  // too shallow: a break
+  update(0.015, t);  // too shallow: a break
   EXPECT_LT(progress[0].since, 0.0);
   const double back = t + 0.01;
   std::vector<std::string> notices;
   for (t = back; t < back + 0.6 && !progress[0].reached; t += 0.01)
-    notices = updateTargets({target}, at(0.03, true), names, atlas, t, &progress);
+    notices = update(0.03, t);
   ASSERT_TRUE(progress[0].reached);
   EXPECT_NEAR(progress[0].reached_time - back, 0.5, 0.011);
   ASSERT_EQ(notices.size(), 1u);

@@ -34,11 +34,16 @@ struct DevicePlacementSpec {
 
 /// A navigation target (`targets:`; see sim/targets.h).
 struct TargetSpec {
-  std::string vessel;  // a vessel name of the scene's centreline
-  std::string device;  // whose tip counts ("": any device)
+  std::string vessel;  // a vessel name of the scene's centreline ("": an aneurysm target)
+  int aneurysm{-1};    // or an aneurysm (index in vessels.aneurysms): a detached coil inside it
+  std::string device;  // whose tip counts ("": any device; required for an aneurysm)
   double depth{0.02};  // [m] past the vessel's origin
-  double dwell{0.5};   // [s] the tip stays there
+  double dwell{0.5};   // [s] the tip (the coil) stays there
   int line{0};         // the scene file's line (errors)
+  /// What it names: the vessel, or "aneurysm K".
+  std::string label() const {
+    return aneurysm >= 0 ? "aneurysm " + std::to_string(aneurysm) : vessel;
+  }
 };
 
 struct ScriptedCommand {

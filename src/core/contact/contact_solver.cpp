@@ -139,6 +139,35 @@ void finishContacts(const ContactProblem& pb, const std::vector<DeviceState>& x,
   }
 }
 
+/// After a loop's correction: re-detection on x (plane updates and new
+/// contacts; the first loop after kept contacts runs the paper's detection
+/// on x_t -> x first), then, once nothing is beyond a wall, the tunnel check
+/// and the lumen springs' settling. True when the loop's answer stands.
+bool loopSolved(const ContactProblem& pb, const ContactOptions& o, int loop, bool detect_later,
+                const LoopSystem& sys, fields::SampleFields* field, LoopState* s,
+                ContactStats* st) {
+  std::vector<Contact>* contacts = s->contacts;
+  const int fresh_from = static_cast<int>(contacts->size());
+  bool solved = true;
+  if (loop == 1 && detect_later) {
+    detectWallCrossings(pb, s->x, o.root, field, contacts, &s->contact_of);  // (stranded: below)
+    s->updated.resize(contacts->size(), 0);
+    solved = static_cast<int>(contacts->size()) == fresh_from;
+  }
+  solved = redetect(pb, o, field, fresh_from, s, st) && solved;
+  // Converged: but did a point's path from x_t pass through a wall into
+  // another lumen? Only the answer is checked, not every iterate (the
+  // first loops' iterates may swing millimetres through the neck of an
+  // aneurysm; later loops bring them back). Such a point gets the wall
+  // where it left as a new plane, and the loop goes on.
+  if (solved) solved = checkTunnels(pb, o, field, s, st);
+  // The lumen's curvature springs leave no spurious force (at the last
+  // loop allowed, what they leave stands: no point is beyond a wall).
+  if (solved && loop < o.max_activation_loops)
+    solved = lumenSpringsSettled(sys, *s, o.lumen_settle);
+  return solved;
+}
+
 }  // namespace
 }  // namespace activation
 
@@ -199,27 +228,8 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     correctMotion(pb, o, sys, lambda, &s);  // x = x_f + A^-1 H^T lambda
     st->correction_ms += msSince(t0);
 
-    // Re-detection on x: plane updates and new contacts. The first loop
-    // after kept contacts runs the paper's detection on x_t -> x first.
     t0 = Clock::now();
-    const int fresh_from = static_cast<int>(contacts->size());
-    solved = true;
-    if (loop == 1 && detect_later) {
-      detectWallCrossings(pb, s.x, o.root, &field, contacts, &s.contact_of);  // (stranded: below)
-      s.updated.resize(contacts->size(), 0);
-      solved = static_cast<int>(contacts->size()) == fresh_from;
-    }
-    solved = redetect(pb, o, &field, fresh_from, &s, st) && solved;
-    // Converged: but did a point's path from x_t pass through a wall into
-    // another lumen? Only the answer is checked, not every iterate (the
-    // first loops' iterates may swing millimetres through the neck of an
-    // aneurysm; later loops bring them back). Such a point gets the wall
-    // where it left as a new plane, and the loop goes on.
-    if (solved) solved = checkTunnels(pb, o, &field, &s, st);
-    // The lumen's curvature springs leave no spurious force (at the last
-    // loop allowed, what they leave stands: no point is beyond a wall).
-    if (solved && loop < o.max_activation_loops)
-      solved = lumenSpringsSettled(sys, s, o.lumen_settle);
+    solved = loopSolved(pb, o, loop, detect_later, sys, &field, &s, st);
     st->detection_ms += msSince(t0);
   }
 

@@ -413,6 +413,49 @@ void warnCrowdedBranches(const Centerline& c, const std::vector<int>& branch_of,
     }
 }
 
+/// The warning for the disconnected pieces dropped (all but the largest).
+std::string droppedPieces(const Graph& g, const std::vector<std::vector<int>>& parts,
+                          const std::vector<double>& lengths) {
+  std::ostringstream w;
+  w << "kept the largest of " << parts.size() << " disconnected pieces (" << lengths[0] * 1e3
+    << " mm); dropped:";
+  for (size_t i = 1; i < parts.size() && i < 6; ++i)
+    w << (i > 1 ? "," : "") << " " << parts[i].size() << " points (" << lengths[i] * 1e3
+      << " mm) near " << mm(g.x[parts[i][0]]);
+  if (parts.size() > 6) w << ", ...";
+  return w.str();
+}
+
+/// The inlet: the end of the piece nearest the declared inlet, else the
+/// widest end. Throws for a piece without ends (a loop).
+int inletOf(const Graph& g, const std::vector<int>& piece, const CenterlineTreeOptions& o) {
+  int inlet = -1;
+  for (int v : piece) {
+    if (g.adj[v].size() != 1) continue;
+    const bool better =
+        inlet < 0 || (o.has_inlet ? (g.x[v] - o.inlet).norm() < (g.x[inlet] - o.inlet).norm()
+                                  : g.r[v] > g.r[inlet]);
+    if (better) inlet = v;
+  }
+  if (inlet < 0)
+    throw std::invalid_argument("the centreline has a loop through " + mm(g.x[piece[0]]) +
+                                ": a vessel tree has none");
+  return inlet;
+}
+
+/// Every branch id the options name exists (else the error lists them).
+void checkNamedBranches(const std::vector<Branch>& branches, const CenterlineTreeOptions& o) {
+  for (const auto& [id, name] : o.names) {
+    bool found = false;
+    for (const Branch& b : branches) found = found || b.id == id;
+    if (found) continue;
+    std::string ids;
+    for (const Branch& b : branches) ids += (ids.empty() ? "" : ", ") + std::to_string(b.id);
+    throw std::invalid_argument("names: no branch " + std::to_string(id) + " (" + name +
+                                ") in the tree; its branches: " + ids);
+  }
+}
+
 }  // namespace
 
 Centerline buildCenterlineTree(const CenterlinePolylines& in, const CenterlineTreeOptions& o,
@@ -435,40 +478,10 @@ Centerline buildCenterlineTree(const CenterlinePolylines& in, const CenterlineTr
   std::vector<double> lengths;
   const std::vector<std::vector<int>> parts = pieces(g, &lengths);
   if (parts.empty()) throw std::invalid_argument("no lines of two or more points");
-  if (parts.size() > 1) {
-    std::ostringstream w;
-    w << "kept the largest of " << parts.size() << " disconnected pieces (" << lengths[0] * 1e3
-      << " mm); dropped:";
-    for (size_t i = 1; i < parts.size() && i < 6; ++i)
-      w << (i > 1 ? "," : "") << " " << parts[i].size() << " points (" << lengths[i] * 1e3
-        << " mm) near " << mm(g.x[parts[i][0]]);
-    if (parts.size() > 6) w << ", ...";
-    report->warnings.push_back(w.str());
-  }
-  const std::vector<int>& piece = parts[0];
-  int inlet = -1;
-  for (int v : piece) {
-    if (g.adj[v].size() != 1) continue;
-    const bool better =
-        inlet < 0 || (o.has_inlet ? (g.x[v] - o.inlet).norm() < (g.x[inlet] - o.inlet).norm()
-                                  : g.r[v] > g.r[inlet]);
-    if (better) inlet = v;
-  }
-  if (inlet < 0)
-    throw std::invalid_argument("the centreline has a loop through " + mm(g.x[piece[0]]) +
-                                ": a vessel tree has none");
-  std::vector<Branch> branches = branchesFrom(g, inlet);
+  if (parts.size() > 1) report->warnings.push_back(droppedPieces(g, parts, lengths));
+  std::vector<Branch> branches = branchesFrom(g, inletOf(g, parts[0], o));
   assignIds(g, &branches);
-  for (const auto& [id, name] : o.names) {
-    bool found = false;
-    for (const Branch& b : branches) found = found || b.id == id;
-    if (!found) {
-      std::string ids;
-      for (const Branch& b : branches) ids += (ids.empty() ? "" : ", ") + std::to_string(b.id);
-      throw std::invalid_argument("names: no branch " + std::to_string(id) + " (" + name +
-                                  ") in the tree; its branches: " + ids);
-    }
-  }
+  checkNamedBranches(branches, o);
 
   Centerline c;
   std::vector<int> out_of(g.x.size(), -1), branch_of;

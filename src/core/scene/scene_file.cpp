@@ -254,7 +254,8 @@ const std::vector<std::string>& knownEffects() {
 
 namespace {
 
-/// `targets:` a list of vessel names, or of maps {vessel, device, depth, dwell}.
+/// `targets:` a list of vessel names, or of maps {vessel, device, depth,
+/// dwell}, or {aneurysm, device, dwell}.
 std::vector<TargetSpec> readTargets(const YamlReader& r, const YAML::Node& list,
                                     const SceneSpec& s) {
   if (!list.IsSequence()) r.fail(list, "targets", "must be a list of vessel names or maps");
@@ -268,8 +269,20 @@ std::vector<TargetSpec> readTargets(const YamlReader& r, const YAML::Node& list,
     if (n.IsScalar()) {
       t.vessel = r.text(n, p);
     } else {
-      r.keys(n, p, {"vessel", "device", "depth", "dwell"});
-      t.vessel = r.text(r.required(n, "vessel", p + ".vessel"), p + ".vessel");
+      r.keys(n, p, {"vessel", "aneurysm", "device", "depth", "dwell"});
+      if (n["aneurysm"]) {
+        if (n["vessel"]) r.fail(n["vessel"], p + ".vessel", "a target is a vessel or an aneurysm");
+        if (n["depth"]) r.fail(n["depth"], p + ".depth", "applies to a vessel target");
+        t.aneurysm = r.integer(n["aneurysm"], p + ".aneurysm");
+        const int count = static_cast<int>(s.vessels.aneurysms.size());
+        if (t.aneurysm < 0 || t.aneurysm >= count)
+          r.fail(n["aneurysm"], p + ".aneurysm",
+                 "the scene's vessels have " + std::to_string(count) +
+                     " aneurysm(s): an index in [0, " + std::to_string(count - 1) + "]");
+        if (!n["device"]) r.fail(n, p + ".device", "an aneurysm target names the coil's device");
+      } else {
+        t.vessel = r.text(r.required(n, "vessel", p + ".vessel"), p + ".vessel");
+      }
       if (n["device"]) {
         t.device = r.text(n["device"], p + ".device");
         bool known = false;

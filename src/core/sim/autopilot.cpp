@@ -244,9 +244,8 @@ bool Autopilot::judgeDwell(const SceneModel& model, const SimData& data) {
   goal.spec.dwell = options_.dwell;
   goal.vessel = target_;
   goal.device = lead_;
-  std::vector<std::string> names;
-  for (const DeviceModel& m : model.devices) names.push_back(m.name);
-  updateTargets({goal}, data.tips, names, *model.atlas, data.time, &goal_progress_);
+  updateTargets({goal}, data.tips, model.devices, data.devices, *model.atlas, data.time,
+                &goal_progress_);
   return goal_progress_[0].reached;
 }
 

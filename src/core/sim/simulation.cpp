@@ -239,133 +239,16 @@ void sleepingStep(SimData* data) {
   for (const Contact& c : data->contacts) data->stats.active_contacts += c.force > 0.0;
 }
 
-/// The radii [m] of every sample point: the widths detection evaluates the
-/// vessel field for.
-std::vector<double> sampleRadii(const std::vector<std::vector<SamplePoint>>& samples) {
-  std::vector<double> radii;
-  for (const auto& device : samples)
-    for (const SamplePoint& s : device)
-      if (std::find(radii.begin(), radii.end(), s.radius) == radii.end()) radii.push_back(s.radius);
-  return radii;
-}
-
-/// Every device's access point lies in a lumen wide enough for it: else the
-/// first step fails with the device beyond the wall; refused at load with
-/// the distance to the wall.
-void checkAccessPoints(const SceneSpec& spec, const VesselField* vessels) {
-  if (!vessels) return;
-  for (size_t i = 0; i < spec.devices.size(); ++i) {
-    const DevicePlacementSpec& d = spec.devices[i];
-    if (d.outer >= 0) continue;  // enters through its outer device
-    double radius = 0.0;
-    for (const auto& sec : d.device.sections) radius = std::max(radius, sec.section.outer_radius);
-    const FieldSample g = vessels->evaluate(d.introducer.access_point, radius);
-    if (g.value >= 0.0) continue;
-    std::ostringstream why;
-    const double slope = g.gradient.norm();
-    if (slope > 0.0)
-      why << "lies " << -g.value / slope * 1e3 << " mm beyond the wall of the vessels for a device "
-          << "of radius " << radius * 1e3 << " mm: move it into a lumen";
-    else
-      why << "lies outside every vessel: move it into a lumen";
-    throw LoadError(spec.file, d.access_point_line,
-                    "devices[" + std::to_string(i) + "].access_point", why.str());
-  }
-}
-
-/// A device whose introducer points across its vessel (more than 60 degrees
-/// off the nearest centreline segment, and the wall ahead within 1.5 lumen
-/// radii) meets the wall at once: warned. (A coil aimed into an aneurysm's
-/// dome from its neck has millimetres ahead: not warned.)
-void warnAcrossTheVessel(const SceneSpec& spec, const Centerline& c, const VesselField& field,
-                         std::vector<std::string>* warnings) {
-  for (size_t i = 0; i < spec.devices.size(); ++i) {
-    const DevicePlacementSpec& d = spec.devices[i];
-    if (d.outer >= 0) continue;  // enters through its outer device
-    const Vec3& p = d.introducer.access_point;
-    double best = std::numeric_limits<double>::infinity(), radius = 0.0;
-    Vec3 axis = Vec3::Zero();
-    for (int k = 0; k < c.numPoints(); ++k) {
-      const int j = c.parent[k];
-      if (j < 0) continue;
-      const Vec3 ab = c.position[k] - c.position[j];
-      if (ab.squaredNorm() <= 0.0) continue;
-      const double t = std::clamp((p - c.position[j]).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-      const double dist = (p - (c.position[j] + t * ab)).norm();
-      if (dist < best)
-        best = dist, axis = ab.normalized(), radius = (1 - t) * c.radius[j] + t * c.radius[k];
-    }
-    if (axis.isZero()) continue;
-    const Vec3 dir = d.introducer.frame.col(0);
-    const double angle = std::acos(std::min(1.0, std::abs(dir.dot(axis)))) * 180.0 / M_PI;
-    if (angle <= 60.0) continue;
-    const double device_radius = d.device.sections.front().section.outer_radius;
-    if (!firstRoot(field, p, p + 1.5 * radius * dir, device_radius).hit) continue;
-    std::ostringstream w;
-    w << spec.file << ": devices[" << i << "] (" << d.device.name << ") enters at "
-      << std::lround(angle) << " degrees to the axis of its vessel and meets the wall at once: "
-      << "point insertion_direction along the vessel";
-    warnings->push_back(w.str());
-  }
-}
-
-/// The scene's targets against its vessels and devices: an unknown vessel,
-/// one narrower than the device that must reach it, or one not connected to
-/// the device's access point is refused with what exists.
-std::vector<Target> resolveTargets(const SceneSpec& spec, const VesselAtlas* atlas) {
-  std::vector<Target> out;
-  for (size_t k = 0; k < spec.targets.size(); ++k) {
-    const TargetSpec& t = spec.targets[k];
-    const std::string field = "targets[" + std::to_string(k) + "]";
-    auto fail = [&](const std::string& why) { throw LoadError(spec.file, t.line, field, why); };
-    if (!atlas) fail("a target needs vessels");
-    Target target{t, atlas->find(t.vessel), -1};
-    if (target.vessel < 0) {
-      std::string near;
-      for (const std::string& n : atlas->closestNames(t.vessel))
-        near += (near.empty() ? "" : ", ") + n;
-      fail("no vessel '" + t.vessel + "' in the scene (" + std::to_string(atlas->vessels().size()) +
-           " named vessels; nearest: " + near + ")");
-    }
-    for (size_t i = 0; i < spec.devices.size(); ++i)
-      if (spec.devices[i].device.name == t.device) target.device = static_cast<int>(i);
-    // Every device that may reach it: it must fit and start connected to it.
-    for (size_t i = 0; i < spec.devices.size(); ++i) {
-      if (target.device >= 0 && target.device != static_cast<int>(i)) continue;
-      const DevicePlacementSpec& d = spec.devices[i];
-      const double tip_radius = d.device.sections.back().section.outer_radius;
-      const NamedVessel& v = atlas->vessels()[target.vessel];
-      if (v.radius <= tip_radius) {
-        std::ostringstream why;
-        why << "vessel '" << t.vessel << "' narrows to " << v.radius * 1e3
-            << " mm radius, the tip of device '" << d.device.name << "' is " << tip_radius * 1e3
-            << " mm: the lumen is closed to it";
-        fail(why.str());
-      }
-      const DevicePlacementSpec& entry = d.outer >= 0 ? spec.devices[d.outer] : d;
-      const int start = atlas->locate(entry.introducer.access_point).vessel;
-      if (atlas->path(start, target.vessel).empty())
-        fail("vessel '" + t.vessel + "' is not connected to vessel '" +
-             atlas->vessels()[start].name + "', where device '" + d.device.name + "' enters");
-    }
-    out.push_back(target);
-  }
-  return out;
-}
-
 }  // namespace
 
 void locateTips(const SceneModel& model, SimData* data) {
   if (!model.atlas) return;
   data->tips.resize(data->devices.size());
-  std::vector<std::string> names;
-  for (size_t i = 0; i < data->devices.size(); ++i) {
+  for (size_t i = 0; i < data->devices.size(); ++i)
     data->tips[i] = locateInVessels(model, *data, data->devices[i].position.back());
-    names.push_back(model.devices[i].name);
-  }
   if (model.targets.empty()) return;
-  for (std::string& notice :
-       updateTargets(model.targets, data->tips, names, *model.atlas, data->time, &data->targets))
+  for (std::string& notice : updateTargets(model.targets, data->tips, model.devices, data->devices,
+                                           *model.atlas, data->time, &data->targets))
     data->notices.push_back(std::move(notice));
 }
 
@@ -444,66 +327,6 @@ VesselLocation locateInVessels(const SceneModel& model, const SimData& data, con
     return model.atlas->locate(p);
   const MotionSnapshot motion = model.vessels->motionAt(data.time);
   return model.atlas->locate(p - model.vessels->displacement(p, motion));
-}
-
-SceneModel buildSceneModel(const SceneSpec& file_spec) {
-  checkSceneLimits(file_spec);
-  SceneSpec spec = file_spec;  // devices at the inlet placed below
-  SceneModel m;
-  m.name = spec.name;
-  m.file = spec.file;
-  m.time_step = spec.time_step;
-  for (const auto& e : spec.effects)
-    if (e == "gravity")
-      m.effects.gravity = true;
-    else if (e == "vessel_motion")
-      m.effects.vessel_motion = true;
-    else if (e == "device_contact")
-      m.effects.device_contact = true;
-    else if (e == "subdivision")
-      m.effects.subdivision = true;
-    else if (e == "friction")
-      m.effects.friction = true;
-    else if (e == "coaxial")
-      m.effects.coaxial = true;
-  if (m.effects.gravity) m.gravity = spec.gravity;
-  std::shared_ptr<VesselField> field;  // tabulated once the devices' radii are known
-  if (spec.vessels.present) {
-    const Centerline centerline = buildCenterline(spec.vessels, &m.warnings);
-    for (DevicePlacementSpec& d : spec.devices)
-      if (d.at_inlet) d.introducer = inletIntroducer(centerline);
-    field = std::make_shared<VesselField>(
-        centerline, spec.vessels.aneurysms,
-        m.effects.vessel_motion ? spec.vessels.motion : std::vector<MotionRegion>{},
-        spec.vessels.field);
-    m.vessels = field;
-    warnAcrossTheVessel(spec, centerline, *m.vessels, &m.warnings);
-    m.surface = m.vessels;
-    m.atlas = std::make_shared<const VesselAtlas>(centerline);
-  }
-  checkAccessPoints(spec, m.vessels.get());
-  m.targets = resolveTargets(spec, m.atlas.get());
-  m.contact = spec.contact;
-  m.contact.friction = m.effects.friction;
-  m.sleep = spec.sleep;
-  if (m.effects.vessel_motion) m.sleep.enabled = false;
-  for (const auto& d : spec.devices) {
-    m.devices.push_back(buildDeviceModel(d.device));
-    m.introducers.push_back(d.introducer);
-    m.drive_limits.push_back(d.drive);
-    m.initial_inserted_length.push_back(d.inserted_length);
-    m.initial_rotation.push_back(d.rotation);
-    m.samples.push_back(sampleDevice(m.devices.back(), m.contact.contact_spacing));
-    if (m.effects.coaxial) m.outer_of.push_back(d.outer);
-  }
-  if (field) field->tabulateHessianBounds(sampleRadii(m.samples));
-  m.script = spec.script;
-  m.duration = spec.duration;
-  return m;
-}
-
-SceneModel loadScene(const std::string& name_or_path) {
-  return buildSceneModel(loadSceneFile(resolveScenePath(name_or_path)));
 }
 
 SimData makeData(const SceneModel& model) {
