@@ -1,5 +1,6 @@
 #include "endovascular_sim/sim/targets.h"
 
+#include <algorithm>
 #include <sstream>
 
 namespace evsim {
