@@ -29,6 +29,7 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
     << ",\"activation_loops\":" << s.activation_loops << ",\"lcp_iterations\":" << s.lcp_iterations
     << ",\"lcp_residual\":" << num(s.lcp_residual) << ",\"subdivisions\":" << s.subdivisions
     << ",\"max_penetration_m\":" << num(s.max_penetration_m) << ",\"tunnels\":" << s.tunnels
+    << ",\"on_demand_loops\":" << s.on_demand_loops
     << ",\"asleep\":" << (s.asleep ? "true" : "false") << ",\"devices\":[";
   for (size_t i = 0; i < model.devices.size(); ++i) {
     const DeviceState& d = data.devices[i];

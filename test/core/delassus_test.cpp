@@ -187,6 +187,37 @@ TEST(ChainDelassus, MatchesDenseAndBlockSolveForEveryKindOfRow) {
   EXPECT_LT((x - Y * lambda).norm(), 1e-12 * x.norm());
 }
 
+TEST(ChainDelassus, ColumnsOneAtATimeMatchTheDenseOperator) {
+  // The status method's columns on demand (ChainColumns): each column and
+  // the diagonal against H A^-1 H^T formed densely, for rows of every kind,
+  // written through a row map as the contact solver does (rows of the
+  // device among those of the problem).
+  std::mt19937 rng(12);
+  const ChainMatrix A = randomSpdChain(40, &rng);
+  const int first = 4, nb = 36, n = 6 * nb;
+  const std::vector<ContactRow> rows = rowsOfEveryKind(nb, &rng);
+  const int c = static_cast<int>(rows.size());
+  ChainInverse inverse;
+  ASSERT_TRUE(inverse.compute(A, first));
+  const MatX H = denseH(rows, n);
+  const MatX dense = H * A.toDense().bottomRightCorner(n, n).llt().solve(H.transpose());
+  std::vector<int> to(c);
+  for (int i = 0; i < c; ++i) to[i] = 2 * i + 1;  // every other row of a problem twice as large
+  const ChainColumns columns(inverse, rows, to);
+  for (int j = 0; j < c; ++j) {
+    VecX out = VecX::Zero(2 * c + 1);
+    columns.addColumn(j, out.data());
+    VecX column(c);
+    for (int i = 0; i < c; ++i) column(i) = out(to[i]);
+    EXPECT_LT((column - dense.col(j)).norm(), 1e-12 * dense.norm()) << "column " << j;
+    EXPECT_EQ(out(0), 0.0);  // nothing outside the map
+  }
+  VecX diagonal = VecX::Zero(2 * c + 1);
+  columns.addDiagonal(diagonal.data());
+  for (int i = 0; i < c; ++i)
+    EXPECT_NEAR(diagonal(to[i]), dense(i, i), 1e-12 * dense.norm()) << "row " << i;
+}
+
 /// The coil of `aneurysm_packed` with `inserted` [m] out of the introducer
 /// (light elements, axially far stiffer than their mass term), in free
 /// space after three steps; rows at every third element's sample points.

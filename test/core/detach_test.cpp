@@ -48,7 +48,8 @@ TEST(Detach, RefusedInsideTheMicrocatheterThenThePusherLeavesTheCoil) {
   while (data.time < 2.3 - 1e-9) {
     ASSERT_EQ(step(model, &data), StepStatus::kOk)
         << "t = " << data.time << ": " << data.last_error;
-    ASSERT_TRUE(data.notices.empty()) << data.notices.front();
+    for (const std::string& notice : data.notices)  // (the scene's target may be reached)
+      ASSERT_EQ(notice.rfind("target 'aneurysm 0' reached", 0), 0u) << notice;
     if (std::abs(data.time - 1.7) < 1e-9) {
       ASSERT_EQ(data.devices[coil].cut_element, cut);
       coil_at_detach = coilCentroid(data.devices[coil], cut);

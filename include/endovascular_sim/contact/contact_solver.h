@@ -59,6 +59,8 @@ struct ContactOptions {
   int curvature_loops{1000};           // loops that update C (then A + C and its band are kept)
   bool interior_balls{true};           // spare evaluations in certified balls (sample_fields.h)
   bool detect_on_first_iterate{true};  // with kept contacts, detect on x_t -> x_1, not -> x_f
+  bool columns_on_demand{true};        // frictionless status method: W's columns formed as it reads
+                                       // them, not the whole W (contact/delassus_columns.h)
   double lumen_settle{0.03};  // effect 'coaxial': the loop goes on while a point held by the
                               // lumen's curvature slid more than this fraction of the clearance
                               // since the loop's anchor: what that leaves is a force below this
@@ -112,6 +114,7 @@ struct ContactStats {
   int pair_passes{0};        // device-pair detection passes (effect 'device_contact')
   double lumen_ms{0.0};      // coaxial lumen detection (part of detection_ms)
   int lumen_passes{0};       // coaxial lumen detection passes (effect 'coaxial')
+  int on_demand_loops{0};    // loops whose W was formed column by column (columns_on_demand)
 };
 
 /// The LCP of the last activation loop (for dumps and offline comparisons).

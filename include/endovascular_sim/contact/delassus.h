@@ -87,6 +87,40 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
                                  const std::vector<char>& fresh_rows, MatX* W,
                                  DelassusUpdate path = DelassusUpdate::kAutomatic);
 
+/// One part of a row of H on the nodes (node, node + 1) of the free chain.
+struct ChainPart {
+  int row;
+  int node;
+  Vec6 lo, hi;  // coefficients on the two nodes
+};
+
+/// Columns of W = H A^-1 H^T one at a time from the selected inverse (the
+/// status method's columns on demand: contact/delassus_columns.h): the
+/// rows sorted along the chain and each row's own column at its node
+/// once; then a column is carried down and its row up the chain from its
+/// element, O(n + c) per column.
+class ChainColumns {
+ public:
+  /// `to`: each row's index in the caller's vectors. The inverse must
+  /// outlive this.
+  ChainColumns(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
+               std::vector<int> to);
+  /// out[to[i]] += W_ij for every row i.
+  void addColumn(int j, double* out) const;
+  /// out[to[i]] += W_ii for every row i.
+  void addDiagonal(double* out) const;
+
+ private:
+  template <typename Sink>
+  void forColumn(int j, Sink&& sink) const;
+
+  const ChainInverse* inverse_;
+  std::vector<ChainPart> parts_;  // sorted by node
+  std::vector<Vec6> here_;        // per part: its own column S g at its node
+  std::vector<int> to_;
+  std::vector<std::vector<int>> parts_of_row_;
+};
+
 /// H^T lambda over the free DOFs (n): the generalised force of the rows.
 VecX contactForce(int n, const std::vector<ContactRow>& rows, const VecX& lambda);
 

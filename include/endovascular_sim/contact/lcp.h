@@ -76,6 +76,26 @@ struct LcpStats {
 LcpStatus solveLcp(const MatXView& W, const VecX& q, const LcpOptions& options, VecX* z,
                    LcpStats* stats = nullptr);
 
+/// W given column by column, each formed when the solver first reads it.
+/// The status method reads only the columns of the rows it activates (and
+/// the largest diagonal entry, for its regularisation): a problem of many
+/// rows and few forces (a wire along a catheter's lumen: 250 rows, 30
+/// forces) need not form the others (contact/delassus_columns.h).
+class ColumnOperator {
+ public:
+  virtual ~ColumnOperator() = default;
+  virtual int size() const = 0;
+  /// Column j of W (size() entries), valid while the operator lives.
+  virtual Eigen::Map<const VecX> column(int j) = 0;
+  /// max_i W_ii
+  virtual double maxDiagonal() = 0;
+};
+
+/// The status method on W given by columns (options.solver is not read:
+/// PGS and Lemke read every entry). Same answers as on the dense W.
+LcpStatus solveLcp(ColumnOperator& W, const VecX& q, const LcpOptions& options, VecX* z,
+                   LcpStats* stats = nullptr);
+
 /// |z - max(0, z - w)| / |q| with w = W z + q (Siconos' LCP error measure);
 /// 0 for q = 0 and z = 0.
 double lcpResidual(const MatXView& W, const VecX& q, const VecX& z);

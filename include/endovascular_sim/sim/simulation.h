@@ -95,8 +95,10 @@ struct StepStats {
   double lcp_residual{0.0};       // worst natural-map residual
   int subdivisions{0};            // sub-steps added by halving
   double max_penetration_m{0.0};  // [m] deepest point beyond the wall at the end
-  int tunnels{0};      // points whose path from x_t crossed a wall into another lumen, re-solved
-  bool asleep{false};  // the scene slept through this step (SleepOptions): nothing was solved
+  int tunnels{0};  // points whose path from x_t crossed a wall into another lumen, re-solved
+  int on_demand_loops{0};  // activation loops whose W was formed column by column as the
+                           // status method read them (contact.columns_on_demand)
+  bool asleep{false};      // the scene slept through this step (SleepOptions): nothing was solved
 };
 
 enum class StepStatus { kOk, kSolverFailure, kContactsUnsolved };

@@ -8,6 +8,8 @@
 //   contact_system.cpp  the loop's linear problem: the wall-curvature term
 //                     A + C, the rows of H and q at x, W = H A^-1 H^T, and
 //                     the correction x = x_f + A^-1 H^T lambda
+//   delassus_columns.cpp  W formed column by column as the status method
+//                     reads it, where that is cheaper than whole
 //   lumen_curvature.cpp  effect 'coaxial': the lumen's curvature as compliant
 //                     rows on the relative slide, eliminated from W and q
 //   contact_solver.cpp  the loop itself and the LCP (or frictional) solve
@@ -17,8 +19,10 @@
 #include <array>
 #include <chrono>
 #include <map>
+#include <memory>
 #include <vector>
 
+#include "delassus_columns.h"
 #include "endovascular_sim/contact/contact_solver.h"
 #include "endovascular_sim/contact/delassus.h"
 #include "endovascular_sim/mechanics/chain_matrix.h"
@@ -92,6 +96,7 @@ struct LoopSystem {
   VecX q, mu;
   MatX W_sum;                                    // m x m, once a device's part is added
   const DelassusBuffer* W_device{nullptr};       // or one device's operator (it holds every row)
+  std::unique_ptr<DelassusColumns> columns;      // or W formed as the status method reads it
   std::vector<std::vector<int>> of_device;       // rows with a part on each device
   std::vector<std::vector<ContactRow>> rows_of;  // their rows of H, per device
   std::vector<MatX> Y;                           // A^-1 H^T where W came from the block solve

@@ -88,9 +88,9 @@ class WorkspaceStorageLease {
 /// last loop's (or, for contacts that persist, the last step's) forces.
 LcpStatus solveForces(const ContactOptions& o, const std::vector<Contact>& contacts,
                       const LoopSystem& sys, VecX* lambda, ContactStats* st) {
-  const MatXView W = sys.W();
   const int c = sys.c;
   if (o.friction) {
+    const MatXView W = sys.W();
     lambda->resize(sys.m);
     for (int i = 0; i < c; ++i) {
       const Contact& ct = contacts[i];
@@ -112,7 +112,8 @@ LcpStatus solveForces(const ContactOptions& o, const std::vector<Contact>& conta
   LcpOptions lo = o.lcp;
   lo.warm_start = true;
   LcpStats ls;
-  const LcpStatus status = solveLcp(W, sys.q, lo, lambda, &ls);
+  const LcpStatus status = sys.columns ? solveLcp(*sys.columns, sys.q, lo, lambda, &ls)
+                                       : solveLcp(sys.W(), sys.q, lo, lambda, &ls);
   st->lcp_iterations += ls.iterations;
   st->lcp_residual = ls.residual;
   return status;
@@ -212,13 +213,15 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     t0 = Clock::now();
     formContactProblem(pb, o, &s, &sys);  // H, q at x; W = H A^-1 H^T
     st->delassus_ms += msSince(t0);
+    st->on_demand_loops += sys.columns ? 1 : 0;
 
     t0 = Clock::now();
     VecX lambda;
     const LcpStatus status = solveForces(o, *contacts, sys, &lambda, st);
     st->lcp_ms += msSince(t0);
     st->contacts = sys.c;
-    if (pb.record) *pb.record = {MatX(sys.W()), sys.q, lambda, sys.mu};
+    if (pb.record)
+      *pb.record = {sys.columns ? sys.columns->dense() : MatX(sys.W()), sys.q, lambda, sys.mu};
     if (status != LcpStatus::kSolved) {  // the caller subdivides
       st->lcp_status = status;
       return false;

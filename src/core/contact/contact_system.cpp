@@ -233,6 +233,17 @@ void deviceRows(const std::vector<RowPart>& parts, int first_free_node, int m,
   }
 }
 
+/// The band of (A + C)^-1 whenever C changed, of A once a step, from the
+/// factor this loop steps with.
+void ensureBand(const ContactProblem& pb, size_t d, LoopState* s, const LoopSystem* sys) {
+  const Band wanted = s->curved[d] ? Band::kOfCurved : Band::kOfA;
+  if (s->band[d] == wanted) return;
+  (*pb.workspaces)[d].inverse.computeFrom(*sys->factor[d]);
+  s->band[d] = wanted;
+  s->last_rows[d].clear();  // nothing to reuse
+  s->last_W[d].size = 0;
+}
+
 /// Device d's operator H_d A^-1 H_d^T: from the block solve below
 /// kChainDelassusMinRows rows (*Wd, and Y), else from the band (kept in
 /// s->last_W[d] for the next loop; returned).
@@ -244,15 +255,7 @@ const DelassusBuffer* deviceOperator(const ContactProblem& pb, size_t d, LoopSta
     delassusOperator(*sys->factor[d], device_rows, &sys->Y[d], Wd);
     return nullptr;
   }
-  // The band of (A + C)^-1 whenever C changed, of A once a step, from
-  // the factor this loop steps with.
-  const Band wanted = s->curved[d] ? Band::kOfCurved : Band::kOfA;
-  if (s->band[d] != wanted) {
-    ws[d].inverse.computeFrom(*sys->factor[d]);
-    s->band[d] = wanted;
-    s->last_rows[d].clear();  // nothing to reuse
-    s->last_W[d].size = 0;
-  }
+  ensureBand(pb, d, s, sys);
   sys->Y[d].resize(0, 0);
   // Rows unchanged since the last loop (same normal, and for a sample
   // at a node no tangent term) keep their entries among themselves.
@@ -263,6 +266,29 @@ const DelassusBuffer* deviceOperator(const ContactProblem& pb, size_t d, LoopSta
   updateChainDelassusOperator(ws[d].inverse, device_rows, changed, &s->last_W[d]);
   s->last_rows[d] = device_rows;
   return &s->last_W[d];
+}
+
+/// W's columns on demand rather than whole (contact/delassus_columns.h)
+/// when that costs fewer flops: the status method starts from the
+/// contacts with a force (the warm start) and reads about their columns
+/// and the springs'; a column costs a pass along the chains (72 n) and its
+/// dots with the rows (24 c) and, with r springs, 2 m r for their
+/// elimination. Whole: the sweep (216 n + 6 c^2) and the elimination's
+/// product (2 m^2 r). On arch_to_right_common_carotid's trunk stretch (220
+/// rows, 40 forces, 25 springs) columns on demand take a third less time;
+/// on a coil in a dome (15-300 rows, a long chain, no spring) the whole W
+/// is cheaper.
+bool columnsOnDemandPay(const ContactProblem& pb, const ContactOptions& o, const LoopState& s,
+                        const LoopSystem& sys) {
+  if (!o.columns_on_demand || o.friction || o.lcp.solver != LcpSolver::kStatusMethod) return false;
+  double forces = 0.0, nodes = 0.0;
+  for (int i = 0; i < sys.c; ++i) forces += (*s.contacts)[i].force > 0.0;
+  for (const DeviceWorkspace& w : *pb.workspaces) nodes += w.factor.size() / 6;
+  const double m = sys.m, r = static_cast<double>(sys.springs.size()), c = m + r;
+  const double read = forces + r;
+  const double on_demand = read * (72.0 * nodes + 24.0 * c + 2.0 * m * r);
+  const double whole = 216.0 * nodes + 6.0 * c * c + 2.0 * m * m * r;
+  return on_demand < whole;
 }
 
 }  // namespace
@@ -282,6 +308,24 @@ void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopS
   sys->rows_of.assign(nd, {});
   sys->Y.assign(nd, MatX());
   std::vector<int> column_of_row;
+  if (columnsOnDemandPay(pb, o, *s, *sys)) {
+    sys->columns = std::make_unique<DelassusColumns>(rows);
+    for (size_t d = 0; d < nd; ++d) {
+      if (parts[d].empty()) continue;
+      deviceRows(parts[d], (*pb.workspaces)[d].first_free_node, rows, &column_of_row,
+                 &sys->of_device[d], &sys->rows_of[d]);
+      if (static_cast<int>(sys->rows_of[d].size()) < kChainDelassusMinRows) {
+        MatX Wd;
+        delassusOperator(*sys->factor[d], sys->rows_of[d], &sys->Y[d], &Wd);
+        sys->columns->addDense(std::move(Wd), &sys->of_device[d]);
+        continue;
+      }
+      ensureBand(pb, d, s, sys);
+      sys->columns->addChain(&(*pb.workspaces)[d].inverse, &sys->rows_of[d], &sys->of_device[d]);
+    }
+    eliminateLumenSprings(sys);
+    return;
+  }
   for (size_t d = 0; d < nd; ++d) {
     if (parts[d].empty()) continue;
     deviceRows(parts[d], (*pb.workspaces)[d].first_free_node, rows, &column_of_row,

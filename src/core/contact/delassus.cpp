@@ -42,12 +42,7 @@ namespace {
 constexpr int kFreshColumnsBase = 100;
 constexpr int kFreshColumnsPerRow = 25;
 
-/// One part of a row on the nodes (node, node + 1) of the free chain.
-struct Part {
-  int row;
-  int node;
-  Vec6 lo, hi;  // coefficients on the two nodes
-};
+using Part = ChainPart;
 
 /// The rows' parts sorted by node, in row order within a node (a counting
 /// sort: O(parts + blocks)); a part whose first node is held keeps its
@@ -361,6 +356,72 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
       W(i, f) = sum;
       W(f, i) = sum;
     }
+}
+
+ChainColumns::ChainColumns(const ChainInverse& inverse, const std::vector<ContactRow>& rows,
+                           std::vector<int> to)
+    : inverse_(&inverse),
+      parts_(sortedParts(rows, inverse.numBlocks())),
+      to_(std::move(to)),
+      parts_of_row_(rows.size()) {
+  here_.resize(parts_.size());
+  for (size_t k = 0; k < parts_.size(); ++k) {
+    here_[k] = columnHere(inverse, parts_[k]);
+    parts_of_row_[parts_[k].row].push_back(static_cast<int>(k));
+  }
+}
+
+template <typename Sink>
+void ChainColumns::forColumn(int j, Sink&& sink) const {
+  const ChainInverse& inverse = *inverse_;
+  const int count = static_cast<int>(parts_.size());
+  for (int k : parts_of_row_[j]) {
+    const Part& b = parts_[k];
+    // Down the chain: S g_b at each node (col(i - 1) = transfer(i - 1)
+    // col(i) below b's first node), dotted with every part at or below it.
+    int last = k;  // and the parts on b's node after it
+    while (last + 1 < count && parts_[last + 1].node == b.node) ++last;
+    Vec6 here = here_[k], above = columnAbove(inverse, b);
+    int node = b.node;
+    for (int a = last; a >= 0; --a) {
+      const Part& pa = parts_[a];
+      for (; node > pa.node; --node) {
+        above = here;
+        here.noalias() = inverse.transfer(node - 1) * above;
+      }
+      sink(pa.row, pa.lo.dot(here) + pa.hi.dot(above));
+    }
+    // Up the chain: the row r(i + 1) = transfer(i)^T r(i) from
+    // r(node + 1) = hi + transfer(node)^T lo, dotted with the own column
+    // of every part above b's node.
+    if (last + 1 >= count) continue;
+    Vec6 r = b.hi + inverse.transfer(b.node).transpose() * b.lo;
+    node = b.node + 1;
+    for (int a = last + 1; a < count; ++a) {
+      const Part& pa = parts_[a];
+      for (; node < pa.node; ++node) r = (inverse.transfer(node).transpose() * r).eval();
+      sink(pa.row, r.dot(here_[a]));
+    }
+  }
+}
+
+void ChainColumns::addColumn(int j, double* out) const {
+  forColumn(j, [&](int row, double w) { out[to_[row]] += w; });
+}
+
+void ChainColumns::addDiagonal(double* out) const {
+  for (size_t k = 0; k < parts_.size(); ++k) {
+    const Part& p = parts_[k];
+    const std::vector<int>& own = parts_of_row_[p.row];
+    if (own.size() == 1) {
+      out[to_[p.row]] += p.lo.dot(here_[k]) + p.hi.dot(columnAbove(*inverse_, p));
+    } else if (static_cast<int>(k) == own.front()) {
+      // A self contact's row couples its two elements: from its column.
+      forColumn(p.row, [&](int row, double w) {
+        if (row == p.row) out[to_[row]] += w;
+      });
+    }
+  }
 }
 
 VecX contactForce(int n, const std::vector<ContactRow>& rows, const VecX& lambda) {

@@ -11,6 +11,23 @@
 namespace evsim {
 namespace {
 
+/// W as the status method reads it: whole columns and the largest diagonal
+/// entry. Dense: a matrix. On demand: a ColumnOperator, whose columns are
+/// formed when first read.
+struct DenseColumns {
+  const MatXView& W;
+  int size() const { return static_cast<int>(W.rows()); }
+  auto col(int j) const { return W.col(j); }
+  double maxDiagonal() const { return W.diagonal().maxCoeff(); }
+};
+
+struct ColumnsOnDemand {
+  ColumnOperator& W;
+  int size() const { return W.size(); }
+  Eigen::Map<const VecX> col(int j) const { return W.column(j); }
+  double maxDiagonal() const { return W.maxDiagonal(); }
+};
+
 /// Cholesky factor L (lower) of W_aa + eps I for an ordered active set,
 /// updated by appending or removing one index, and the forward solution
 /// y = L^-1 b_a of a right-hand side b (given at construction) kept with
@@ -20,11 +37,12 @@ namespace {
 /// an activation loop (megabytes at c = 400) do not each allocate and
 /// fault in their own. One factor at a time per thread: the status method
 /// never runs inside another.
+template <typename Columns>
 class ActiveCholesky {
  public:
-  ActiveCholesky(const MatXView& W, const VecX& b, double eps)
-      : W_(W), b_(b), eps_(eps), L_(factorStorage(W.rows())), row_(W.rows()), y_(W.rows()) {
-    set_.reserve(W.rows());
+  ActiveCholesky(const Columns& W, const VecX& b, double eps)
+      : W_(W), b_(b), eps_(eps), L_(factorStorage(W.size())), row_(W.size()), y_(W.size()) {
+    set_.reserve(W.size());
   }
 
   int size() const { return static_cast<int>(set_.size()); }
@@ -37,8 +55,10 @@ class ActiveCholesky {
     set_.clear();
     const int k = static_cast<int>(init.size());
     if (k == 0) return;
-    for (int j = 0; j < k; ++j)
-      for (int i = j; i < k; ++i) L_(i, j) = W_(init[i], init[j]);
+    for (int j = 0; j < k; ++j) {
+      const auto column = W_.col(init[j]);
+      for (int i = j; i < k; ++i) L_(i, j) = column(init[i]);
+    }
     L_.diagonal().head(k).array() += eps_;
     Eigen::Ref<MatX> block = L_.topLeftCorner(k, k);
     const Eigen::LLT<Eigen::Ref<MatX>> llt(block);
@@ -55,9 +75,10 @@ class ActiveCholesky {
   bool add(int i) {
     const int k = size();
     auto row = row_.head(k);
-    for (int j = 0; j < k; ++j) row(j) = W_(set_[j], i);
+    const auto column = W_.col(i);  // (W symmetric: its row i)
+    for (int j = 0; j < k; ++j) row(j) = column(set_[j]);
     if (k) L_.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(row);
-    const double d2 = W_(i, i) + eps_ - row.squaredNorm();
+    const double d2 = column(i) + eps_ - row.squaredNorm();
     if (!(d2 > 0.0)) return false;
     L_.row(k).head(k) = row.transpose();
     L_(k, k) = std::sqrt(d2);
@@ -119,7 +140,7 @@ class ActiveCholesky {
     return buffer.topLeftCorner(c, c);
   }
 
-  MatXView W_;
+  const Columns& W_;
   const VecX& b_;
   double eps_;
   Eigen::Block<MatX> L_;
@@ -130,7 +151,8 @@ class ActiveCholesky {
 
 /// w = W z + q for z zero outside the active set (z_a ordered like `set`):
 /// O(c k) column sweeps instead of a full product.
-void gapsOfActive(const MatXView& W, const VecX& q, const std::vector<int>& set,
+template <typename Columns>
+void gapsOfActive(const Columns& W, const VecX& q, const std::vector<int>& set,
                   const Eigen::Ref<const VecX>& za, VecX* w) {
   *w = q;
   const size_t k = set.size();
@@ -161,7 +183,8 @@ double residualOfActive(const VecX& q, const std::vector<int>& set,
 /// of many factor updates; a refined za is kept only while it stays
 /// non-negative and lowers the residual. Not tried once the residual is at
 /// round-off level. Returns the residual.
-double refineOnFactor(const MatXView& W, const VecX& q, const ActiveCholesky& chol,
+template <typename Columns>
+double refineOnFactor(const Columns& W, const VecX& q, const ActiveCholesky<Columns>& chol,
                       const std::vector<char>& active, Eigen::Ref<VecX> za, VecX* w) {
   constexpr double kRoundOff = 64 * std::numeric_limits<double>::epsilon();
   const int k = chol.size();
@@ -182,13 +205,14 @@ double refineOnFactor(const MatXView& W, const VecX& q, const ActiveCholesky& ch
   return best;
 }
 
-LcpStatus statusMethod(const MatXView& W, const VecX& q, const LcpOptions& o, VecX* z,
+template <typename Columns>
+LcpStatus statusMethod(const Columns& W, const VecX& q, const LcpOptions& o, VecX* z,
                        LcpStats* st) {
   const int c = static_cast<int>(q.size());
-  const double eps = o.regularization * std::max(W.diagonal().maxCoeff(), 0.0);
+  const double eps = o.regularization * std::max(W.maxDiagonal(), 0.0);
   const int limit = o.max_iterations > 0 ? o.max_iterations : 20 * c + 100;
   const VecX minus_q = -q;
-  ActiveCholesky chol(W, minus_q, eps);
+  ActiveCholesky<Columns> chol(W, minus_q, eps);
   std::vector<char> active(c, 0);
   // Start from the empty set, or (the paper's start) from every contact
   // violated by the free motion, most violated first.
@@ -408,7 +432,7 @@ LcpStatus solveLcp(const MatXView& W, const VecX& q, const LcpOptions& options, 
   LcpStatus status;
   switch (options.solver) {
     case LcpSolver::kStatusMethod:
-      status = statusMethod(W, q, options, z, st);
+      status = statusMethod(DenseColumns{W}, q, options, z, st);
       break;
     case LcpSolver::kPgs:
       status = pgs(W, q, options, z, st);
@@ -424,6 +448,23 @@ LcpStatus solveLcp(const MatXView& W, const VecX& q, const LcpOptions& options, 
   // The status method reports the residual of its last refinement.
   if (status != LcpStatus::kSolved || options.solver != LcpSolver::kStatusMethod)
     st->residual = lcpResidual(W, q, *z);
+  return status;
+}
+
+LcpStatus solveLcp(ColumnOperator& W, const VecX& q, const LcpOptions& options, VecX* z,
+                   LcpStats* stats) {
+  LcpStats local;
+  LcpStats* st = stats ? stats : &local;
+  *st = LcpStats{};
+  if (q.size() == 0) {
+    z->resize(0);
+    return LcpStatus::kSolved;
+  }
+  LcpStatus status = statusMethod(ColumnsOnDemand{W}, q, options, z, st);
+  if (status == LcpStatus::kFailed || !z->allFinite()) {
+    z->setZero(q.size());
+    status = LcpStatus::kFailed;
+  }
   return status;
 }
 

@@ -96,6 +96,19 @@ void addLumenSprings(const ContactProblem& pb, const ContactOptions& o, const Lo
 void eliminateLumenSprings(LoopSystem* sys) {
   const int m = sys->m, r = static_cast<int>(sys->springs.size());
   if (r == 0) return;
+  if (sys->columns) {  // W on demand: the springs' columns only, now
+    std::vector<int> springs(r);
+    for (int j = 0; j < r; ++j) springs[j] = m + j;
+    const MatX raw = sys->columns->rawColumns(springs);  // (m + r) x r
+    MatX S = raw.bottomRows(r);
+    for (int j = 0; j < r; ++j) S(j, j) += 1.0 / sys->springs[j].k;
+    sys->S.compute(S);
+    sys->W_HR = raw.topRows(m);
+    const bool factored = sys->S.info() == Eigen::Success;  // (as below)
+    sys->columns->eliminate(m, &sys->W_HR, factored ? &sys->S : nullptr);
+    if (factored) sys->q.noalias() += sys->W_HR * sys->S.solve(sys->e);
+    return;
+  }
   const MatX full = sys->W();  // (m + r) square
   MatX S = full.bottomRightCorner(r, r);
   for (int j = 0; j < r; ++j) S(j, j) += 1.0 / sys->springs[j].k;

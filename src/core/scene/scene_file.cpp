@@ -116,7 +116,8 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
          {"solver", "tolerance", "max_iterations", "regularization", "max_activation_loops",
           "max_subdivisions", "contact_spacing", "penetration_tolerance", "root_tolerance",
           "wall_curvature", "curvature_loops", "interior_balls", "detect_on_first_iterate",
-          "lumen_settle", "friction_solver", "friction_tolerance", "friction_max_sweeps"});
+          "columns_on_demand", "lumen_settle", "friction_solver", "friction_tolerance",
+          "friction_max_sweeps"});
   if (n["solver"]) {
     try {
       o.lcp.solver = lcpSolverFromName(r.text(n["solver"], "contact.solver"));
@@ -150,6 +151,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   o.curvature_loops = whole("curvature_loops", o.curvature_loops);
   o.interior_balls = flag("interior_balls", o.interior_balls);
   o.detect_on_first_iterate = flag("detect_on_first_iterate", o.detect_on_first_iterate);
+  o.columns_on_demand = flag("columns_on_demand", o.columns_on_demand);
   o.lumen_settle = r.number(n, "lumen_settle", "contact.", o.lumen_settle);
   if (n["friction_solver"]) {
     try {

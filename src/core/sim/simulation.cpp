@@ -90,6 +90,7 @@ void addResults(const ContactStats& c, StepStats* s) {
   s->lcp_residual = std::max(s->lcp_residual, c.lcp_residual);
   s->max_penetration_m = c.max_penetration_m;
   s->tunnels += c.tunnelled;
+  s->on_demand_loops += c.on_demand_loops;
 }
 
 /// One (sub-)step of length dt from data->devices; on success the new states.
