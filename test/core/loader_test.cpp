@@ -309,6 +309,50 @@ TEST_F(Loader, AnAccessPointOutsideTheVesselsIsRefusedWithItsDistance) {
   }
 }
 
+TEST_F(Loader, DevicesPlacedThroughEachOtherAreRefusedWithTheElementsAndTheDepth) {
+  // Two wires crossing in free space (the effect 'device_contact'): the
+  // depth named is the deepest of every pair of their sample points,
+  // found here by brute force on the same placement without the effect.
+  write("wire.urdf", kDevice);
+  std::string second = kDevice;
+  second.replace(second.find("name=\"wire\""), 11, "name=\"crossing\"");
+  write("crossing.urdf", second);
+  std::string text = kScene;
+  text.replace(text.find("effects: [gravity]"), 18, "effects: [gravity, device_contact]");
+  text.replace(text.find("script:"), 7,
+               "  - file: crossing.urdf\n    access_point: [0.015, -0.02, 0]\n"
+               "    insertion_direction: [0, 1, 0]\n    inserted_length: 0.06\nscript:");
+  const SceneSpec spec = loadSceneFile(write("scene.yaml", text));
+  std::string message;
+  try {
+    buildSceneModel(spec);
+    ADD_FAILURE() << "accepted";
+  } catch (const LoadError& e) {
+    message = e.what();
+    EXPECT_EQ(e.field(), "devices[0]") << message;
+    EXPECT_NE(message.find("of 'wire'"), std::string::npos) << message;
+    EXPECT_NE(message.find("of 'crossing'"), std::string::npos) << message;
+  }
+  SceneSpec without = spec;
+  without.effects = {"gravity"};
+  const SceneModel m = buildSceneModel(without);
+  const SimData d = makeData(m);
+  double deepest = -1.0;
+  for (const SamplePoint& a : m.samples[0])
+    for (const SamplePoint& b : m.samples[1]) {
+      const double distance = (samplePosition(m.devices[0], d.devices[0], a) -
+                               samplePosition(m.devices[1], d.devices[1], b))
+                                  .norm();
+      deepest = std::max(deepest, a.radius + b.radius - distance);
+    }
+  const size_t at = message.find("overlap by ");
+  ASSERT_NE(at, std::string::npos) << message;
+  const double reported = std::stod(message.substr(at + 11)) * 1e-3;
+  EXPECT_NEAR(reported, deepest, 1e-8) << message;
+  EXPECT_GT(deepest, 0.1e-3);  // the axes cross: about the two radii
+  std::printf("[ metric   ] crossing wires refused: %s\n", message.c_str());
+}
+
 TEST_F(Loader, AJointThatIsNotFixedIsRefused) {
   const LoadError e = deviceError("type=\"fixed\"", "type=\"continuous\"");
   EXPECT_EQ(e.field(), "joint[j]") << e.what();

@@ -157,6 +157,23 @@ struct ContactProblem {
   std::vector<std::vector<InteriorBall>>* interior{nullptr};
 };
 
+/// Two device elements that overlap: sample points of theirs closer than
+/// the sum of their radii, as the effect 'device_contact' sees them (two
+/// devices, or one device with itself more than a few radii apart along
+/// it; an inner device in its outer device's lumen is no pair).
+struct DeviceOverlap {
+  int device_a, element_a;
+  int device_b, element_b;
+  double depth;  // sum of the radii minus the points' distance [m]
+};
+
+/// The overlaps deeper than `tolerance` [m] in the configuration
+/// problem.start (workspaces' first_free_node set): per pair of elements
+/// the deepest, deepest first. A scene whose devices start so is refused
+/// at load (sim/scene_model.cpp): its first step would have to push them
+/// apart by that much.
+std::vector<DeviceOverlap> deviceOverlaps(const ContactProblem& problem, double tolerance);
+
 /// Corrects ws.dq of every device so that no sample point lies beyond the
 /// surface by more than the tolerance. Returns false when that was not
 /// reached in max_activation_loops (contacts and stats still describe the

@@ -556,3 +556,22 @@ bool checkTunnels(const ContactProblem& pb, const ContactOptions& o, SampleField
 }
 
 }  // namespace evsim::activation
+
+namespace evsim {
+
+std::vector<DeviceOverlap> deviceOverlaps(const ContactProblem& pb, double tolerance) {
+  const std::vector<pairs::PointRef> pts = activation::freePoints(pb, *pb.start);
+  std::map<std::array<int, 4>, double> deepest;  // (device, element, device, element) -> depth
+  for (const pairs::Pair& pr : pairs::findPairs(*pb.devices, pts, -tolerance)) {
+    const pairs::PointRef &a = pts[pr.a], &b = pts[pr.b];
+    double& depth = deepest[{a.device, a.element, b.device, b.element}];
+    depth = std::max(depth, a.r + b.r - pr.distance);
+  }
+  std::vector<DeviceOverlap> out;
+  for (const auto& [key, depth] : deepest) out.push_back({key[0], key[1], key[2], key[3], depth});
+  std::sort(out.begin(), out.end(),
+            [](const DeviceOverlap& x, const DeviceOverlap& y) { return x.depth > y.depth; });
+  return out;
+}
+
+}  // namespace evsim

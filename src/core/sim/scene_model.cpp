@@ -45,6 +45,36 @@ void checkAccessPoints(const SceneSpec& spec, const VesselField* vessels) {
   }
 }
 
+/// Devices that overlap as they are placed (effect 'device_contact': two
+/// devices whose access points put them through each other, a coil whose
+/// rest shape passes through itself) are refused with the two elements and
+/// the depth: the first step would have to push them apart by that much,
+/// and a pair deeper than its radii has no side to be pushed to.
+void checkDeviceOverlaps(const SceneSpec& spec, const SceneModel& m) {
+  constexpr double kTolerance = 1e-5;  // [m]
+  SimData data = makeData(m);
+  for (size_t i = 0; i < m.devices.size(); ++i)
+    data.workspaces[i].first_free_node =
+        lastHeldNode(m.devices[i], data.devices[i].inserted_length) + 1;
+  ContactProblem pb;
+  pb.devices = &m.devices;
+  pb.start = &data.devices;
+  pb.workspaces = &data.workspaces;
+  pb.samples = &m.samples;
+  pb.outer_of = &m.outer_of;
+  const std::vector<DeviceOverlap> overlaps = deviceOverlaps(pb, kTolerance);
+  if (overlaps.empty()) return;
+  const DeviceOverlap& o = overlaps.front();
+  std::ostringstream why;
+  why << "as placed, element " << o.element_a << " of '" << m.devices[o.device_a].name
+      << "' and element " << o.element_b << " of '" << m.devices[o.device_b].name << "' overlap by "
+      << o.depth * 1e3 << " mm";
+  if (overlaps.size() > 1) why << " (and " << overlaps.size() - 1 << " more pairs of elements)";
+  why << ": move an access point, or change the inserted length";
+  throw LoadError(spec.file, spec.devices[o.device_a].access_point_line,
+                  "devices[" + std::to_string(o.device_a) + "]", why.str());
+}
+
 /// A device whose introducer points across its vessel (more than 60 degrees
 /// off the nearest centreline segment, and the wall ahead within 1.5 lumen
 /// radii) meets the wall at once: warned. (A coil aimed into an aneurysm's
@@ -202,6 +232,7 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
   if (field) field->tabulateHessianBounds(sampleRadii(m.samples));
   m.script = spec.script;
   m.duration = spec.duration;
+  if (m.effects.device_contact) checkDeviceOverlaps(spec, m);
   return m;
 }
 
