@@ -187,5 +187,35 @@ TEST(Detach, AnAneurysmTargetIsCheckedAtLoad) {
   }
 }
 
+TEST(Detach, ACoilThatCannotFitItsAneurysmIsRefusedWithItsPackingDensity) {
+  // aneurysm_coiling's 1 cm coil in domes of shrinking radius: the packing
+  // density named is the coil's volume, summed here over the beam elements
+  // of its detached part, over the sphere's; more than half is refused.
+  SceneSpec spec = loadSceneFile(resolveScenePath("aneurysm_coiling"));
+  const SceneModel model = buildSceneModel(spec);
+  const int coil = findDevice(model, "finishing_coil");
+  ASSERT_GE(coil, 0);
+  const DeviceModel& d = model.devices[coil];
+  double volume = 0.0;  // of the elements after the cut
+  for (int e = d.detach_element + 1; e + 1 < d.num_nodes; ++e)
+    volume += M_PI * std::pow(d.node_radius[e], 2) * d.elements[e].length;
+  for (const double radius : {0.5e-3, 0.6e-3, 0.7e-3}) {
+    spec.vessels.aneurysms[0].radius = radius;
+    const double density = volume / (4.0 / 3.0 * M_PI * std::pow(radius, 3));
+    try {
+      buildSceneModel(spec);
+      EXPECT_LE(density, 0.5) << "accepted at " << density;
+    } catch (const LoadError& e) {
+      EXPECT_GT(density, 0.5) << e.what();
+      const std::string what = e.what();
+      const size_t at = what.find("would fill ");
+      ASSERT_NE(at, std::string::npos) << what;
+      EXPECT_NEAR(std::stod(what.substr(at + 11)), 100.0 * density, 1.0) << what;
+      EXPECT_NE(what.find("targets[0]"), std::string::npos) << what;
+      std::printf("[ metric   ] dome radius %.1f mm: %s\n", radius * 1e3, what.c_str());
+    }
+  }
+}
+
 }  // namespace
 }  // namespace evsim
