@@ -45,7 +45,7 @@ class DelassusColumns final : public ColumnOperator {
   int size() const override { return m_; }
   Eigen::Map<const VecX> column(int j) override;
   double maxDiagonal() override;
-  /// Every column (an LCP record, the frictional solver).
+  /// Every column (an LCP record: --dump-lcp, tests).
   MatX dense();
 
  private:
