@@ -420,31 +420,41 @@ double lcpResidual(const MatXView& W, const VecX& q, const VecX& z) {
   return nq > 0.0 ? r.norm() / nq : r.norm();
 }
 
-LcpStatus solveLcp(const MatXView& W, const VecX& q, const LcpOptions& options, VecX* z,
-                   LcpStats* stats) {
-  LcpStats local;
-  LcpStats* st = stats ? stats : &local;
+namespace {
+
+/// What both entry points share: the stats reset, the empty problem, and a
+/// failed or non-finite answer returned as zero forces with kFailed.
+template <typename Solve>
+LcpStatus solveGuarded(const VecX& q, VecX* z, LcpStats* st, Solve&& solve) {
   *st = LcpStats{};
   if (q.size() == 0) {  // nothing to solve (W.diagonal() of an empty W has no max)
     z->resize(0);
     return LcpStatus::kSolved;
   }
-  LcpStatus status;
-  switch (options.solver) {
-    case LcpSolver::kStatusMethod:
-      status = statusMethod(DenseColumns{W}, q, options, z, st);
-      break;
-    case LcpSolver::kPgs:
-      status = pgs(W, q, options, z, st);
-      break;
-    default:
-      status = lemke(W, q, options, z, st);
-      break;
-  }
+  LcpStatus status = solve();
   if (status == LcpStatus::kFailed || !z->allFinite()) {
     z->setZero(q.size());
     status = LcpStatus::kFailed;
   }
+  return status;
+}
+
+}  // namespace
+
+LcpStatus solveLcp(const MatXView& W, const VecX& q, const LcpOptions& options, VecX* z,
+                   LcpStats* stats) {
+  LcpStats local;
+  LcpStats* st = stats ? stats : &local;
+  const LcpStatus status = solveGuarded(q, z, st, [&] {
+    switch (options.solver) {
+      case LcpSolver::kStatusMethod:
+        return statusMethod(DenseColumns{W}, q, options, z, st);
+      case LcpSolver::kPgs:
+        return pgs(W, q, options, z, st);
+      default:
+        return lemke(W, q, options, z, st);
+    }
+  });
   // The status method reports the residual of its last refinement.
   if (status != LcpStatus::kSolved || options.solver != LcpSolver::kStatusMethod)
     st->residual = lcpResidual(W, q, *z);
@@ -455,17 +465,8 @@ LcpStatus solveLcp(ColumnOperator& W, const VecX& q, const LcpOptions& options, 
                    LcpStats* stats) {
   LcpStats local;
   LcpStats* st = stats ? stats : &local;
-  *st = LcpStats{};
-  if (q.size() == 0) {
-    z->resize(0);
-    return LcpStatus::kSolved;
-  }
-  LcpStatus status = statusMethod(ColumnsOnDemand{W}, q, options, z, st);
-  if (status == LcpStatus::kFailed || !z->allFinite()) {
-    z->setZero(q.size());
-    status = LcpStatus::kFailed;
-  }
-  return status;
+  return solveGuarded(q, z, st,
+                      [&] { return statusMethod(ColumnsOnDemand{W}, q, options, z, st); });
 }
 
 }  // namespace evsim
