@@ -11,6 +11,8 @@ packages=(
   libgtest-dev googletest libgmock-dev libbenchmark-dev libcli11-dev
   # patient centrelines and ParaView output (VTK), and the example's generator
   libvtk9-dev python3-vtk9
+  # virtual fluoroscopy: X-ray cross sections (xraylib), ROS image transport
+  libxrl-dev libimage-transport-dev
   # ROS 1 from Debian: catkin, roscpp, message generation and definitions
   catkin python3-catkin-pkg python3-empy
   ros-message-generation ros-message-runtime python3-genmsg python3-gencpp

@@ -86,6 +86,26 @@ struct CheckOptions {
 /// `evsim check`: each file validated as its loader does; exit 2 if any is bad.
 int checkFiles(const CheckOptions& options);
 
+struct RenderOptions {
+  std::string scene;
+  std::string out;          // the folder of the frames
+  double duration{-1.0};    // [s] simulated (-1: the scene's, or the autopilot's run)
+  std::string navigate;     // a vessel: the autopilot drives there ("": the scene's script)
+  double rate{0.0};         // frames per simulated second (0: the scene's xray.frame_rate)
+  std::vector<double> lao;  // [deg] (empty: the scene's)
+  std::vector<double> cranial;
+  int pixels{0};
+  std::vector<double> inject;  // START,DURATION [s]
+  std::string inject_device;
+  std::string inject_vessel;  // at this vessel's origin instead of a tip
+  bool roadmap{false};
+};
+/// `evsim render`: virtual fluoroscopy of a run as PNG frames.
+int renderScene(const RenderOptions& options);
+
+/// `evsim materials`: the device materials and body media, attenuation at an energy [keV].
+int materialsCommand(double energy_kev);
+
 /// `evsim vessels`: a scene's vessel tree (branch ids for a VTK
 /// centreline's names), how closely its surface keeps the radii, and what a
 /// field evaluation costs.

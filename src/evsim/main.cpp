@@ -118,6 +118,38 @@ void addNavigate(CLI::App& app, NavigateOptions* o) {
                   "write one JSON line per step to this file (the fields of evsim run --json)");
 }
 
+void addRender(CLI::App& app, RenderOptions* o) {
+  CLI::App* render = app.add_subcommand(
+      "render", "virtual fluoroscopy of a run: PNG frames at the X-ray frame rate");
+  render->add_option("scene", o->scene, kSceneHelp)->required();
+  render->add_option("--out", o->out, "the folder of the frames and camera_info.yaml")->required();
+  render
+      ->add_option("--duration", o->duration,
+                   "simulated seconds (default: the scene's; with --navigate: the autopilot's "
+                   "run, or to this time with the devices then held)")
+      ->check(CLI::Range(1e-3, 3600.0));
+  render->add_option("--navigate", o->navigate,
+                     "the autopilot drives to this vessel instead of the scene's script");
+  render->add_option("--rate", o->rate, "frames per simulated second (default: the scene's, 15)")
+      ->check(CLI::Range(0.5, 60.0));
+  render->add_option("--lao", o->lao, "C-arm angle [deg]: LAO > 0, RAO < 0")
+      ->expected(1)
+      ->check(CLI::Range(-90.0, 90.0));
+  render->add_option("--cranial", o->cranial, "C-arm tilt [deg]: cranial > 0, caudal < 0")
+      ->expected(1)
+      ->check(CLI::Range(-60.0, 60.0));
+  render->add_option("--pixels", o->pixels, "detector pixels per side")->check(CLI::Range(8, 4096));
+  render->add_option("--inject", o->inject, "inject contrast: START,DURATION [s]")
+      ->delimiter(',')
+      ->expected(2);
+  render->add_option("--inject-device", o->inject_device,
+                     "at whose tip the contrast leaves (default: the first device)");
+  render->add_option("--inject-vessel", o->inject_vessel,
+                     "or 5 mm into this vessel (an aortogram: ascending_aorta)");
+  render->add_flag("--roadmap", o->roadmap,
+                   "after the injection, show its angiogram under the live image");
+}
+
 int dispatch(int argc, char** argv) {
   CLI::App app{"evsim: catheter, guidewire and coil navigation in vessels (no ROS)", "evsim"};
   app.set_version_flag("--version", std::string("evsim ") + EVSIM_VERSION);
@@ -133,6 +165,13 @@ int dispatch(int argc, char** argv) {
   addBench(app, &bench, &what, &duration, &csv, &navigation_bench);
   addMesh(app, &mesh);
   addNavigate(app, &navigate);
+  RenderOptions render;
+  addRender(app, &render);
+  double energy_kev = 60.0;
+  app.add_subcommand("materials",
+                     "the radiopaque materials of device files and their X-ray attenuation")
+      ->add_option("--energy", energy_kev, "effective beam energy [keV]")
+      ->check(CLI::Range(35.0, 120.0));
   app.add_subcommand("list", "the shipped scenes");
   CheckOptions check;
   CLI::App* check_command = app.add_subcommand(
@@ -152,7 +191,8 @@ int dispatch(int argc, char** argv) {
       app.get_subcommands([&](const CLI::App* c) { return argc > 1 && c->get_name() == argv[1]; });
   if (argc > 1 && argv[1][0] != '-' && known.empty()) {
     std::cerr << "evsim: unknown command '" << argv[1]
-              << "' (run, bench, navigate, mesh, vessels, check, list; evsim --help)\n";
+              << "' (run, bench, navigate, render, materials, mesh, vessels, check, list; evsim "
+                 "--help)\n";
     return kExitBadInput;
   }
   try {
@@ -164,6 +204,8 @@ int dispatch(int argc, char** argv) {
   if (app.got_subcommand("run")) return runScene(run);
   if (app.got_subcommand("mesh")) return meshScene(mesh);
   if (app.got_subcommand("navigate")) return navigateScene(navigate);
+  if (app.got_subcommand("render")) return renderScene(render);
+  if (app.got_subcommand("materials")) return materialsCommand(energy_kev);
   if (app.got_subcommand("vessels")) return vesselsCommand(vessels_scene);
   if (app.got_subcommand("check")) return checkFiles(check);
   if (app.got_subcommand("list")) {

@@ -59,6 +59,7 @@ NavigationNode::Parameters NavigationNode::readParameters(const ros::NodeHandle&
   readParam(nh, "publish_clock", &p.publish_clock, &problems, "true or false");
   readParam(nh, "scene_folders", &p.scene_folders, &problems, "a list of folder paths");
   readParam(nh, "allow_any_scene_path", &p.allow_any_scene_path, &problems, "true or false");
+  readParam(nh, "xray", &p.xray, &problems, "true or false");
   if (p.scene.empty()) problems.push_back("~scene must not be empty");
   if (!(p.rate_hz > 0.0 && p.rate_hz <= 1000.0))
     problems.push_back("~rate must lie in (0, 1000] Hz");
@@ -129,6 +130,8 @@ NavigationNode::NavigationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   last_publish_ = ros::WallTime::now();
   loop_.start();
   navigate_ = std::make_unique<NavigateActionServer>(nh_, &loop_);
+  if (params_.xray)
+    xray_ = std::make_unique<XrayPublisher>(nh_, private_nh_, &loop_, params_.frame_id);
 }
 
 std::string NavigationNode::sceneFileFor(const std::string& request,

@@ -224,3 +224,48 @@ TEST(EvsimCli, NavigationBenchDrawsItsNetworkTargetsFromTheSeed) {
 
 }  // namespace
 }  // namespace evsim
+
+namespace evsim {
+namespace {
+
+TEST(EvsimCli, RenderWritesAFramePerPeriodAndTheCameraThatMadeThem) {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / "evsim_cli_render";
+  fs::remove_all(out);
+  // 0.4 s at 10 frames/s: the start and four more; 64 pixels on a 0.3 m
+  // detector at 1.2 m: a focal length of 256 px.
+  const Outcome render =
+      evsim("render free_insertion --duration 0.4 --rate 10 --pixels 64 --out " + out.string());
+  ASSERT_EQ(render.code, 0) << render.output;
+  EXPECT_TRUE(says(render, "5 frames of 64x64 px"));
+  for (int k = 0; k < 5; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "frame_%05d.png", k);
+    EXPECT_TRUE(fs::exists(out / name)) << name;
+  }
+  std::ifstream info(out / "camera_info.yaml");
+  const std::string text((std::istreambuf_iterator<char>(info)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("data: [256, 0, 31.5, 0, 256, 31.5, 0, 0, 1]"), std::string::npos) << text;
+  fs::remove_all(out);
+}
+
+TEST(EvsimCli, RenderRefusesWhatCannotBeImaged) {
+  const Outcome vessel = evsim(
+      "render carotid --duration 0.1 --out /tmp/evsim_cli_r --inject 0,1 --inject-vessel aorta");
+  EXPECT_EQ(vessel.code, 2);
+  EXPECT_TRUE(says(vessel, "no vessel named 'aorta'"));
+  const Outcome free_space =
+      evsim("render free_insertion --duration 0.1 --out /tmp/evsim_cli_r --inject 0,1");
+  EXPECT_EQ(free_space.code, 2);
+  EXPECT_TRUE(says(free_space, "no vessels"));
+  const Outcome angle = evsim("render carotid --out /tmp/evsim_cli_r --lao 120");
+  EXPECT_EQ(angle.code, 2);
+  EXPECT_TRUE(says(angle, "--lao"));
+  const Outcome folder = evsim("render carotid --out /proc/evsim_frames");
+  EXPECT_EQ(folder.code, 2);
+  EXPECT_TRUE(says(folder, "--out"));
+  std::filesystem::remove_all("/tmp/evsim_cli_r");
+}
+
+}  // namespace
+}  // namespace evsim

@@ -11,6 +11,7 @@
 #include "endovascular_sim/core/types.h"
 #include "endovascular_sim/mechanics/beam_element.h"
 #include "endovascular_sim/mechanics/beam_section.h"
+#include "endovascular_sim/mechanics/radiopacity.h"
 
 namespace evsim {
 
@@ -23,17 +24,29 @@ struct DeviceSectionSpec {
   Vec3 rest_curvature{0.0, 0.0, 0.0};  // (twist, bend y, bend z) [1/m]
   double friction{0.0};                // Coulomb coefficient on its surface [-]
   double lumen_friction{0.0};          // on its lumen's wall (a device inside it) [-]
+  int xray_material{-1};               // index into xrayMaterials(); -1: kDefaultXrayMaterial
+  double xray_fill{1.0};               // volume fraction of the cross-section the material fills (a
+                                       // coil's winding) [-], in (0, 1]
+};
+
+/// A radiopaque band as a device file places it: on a section, from its start.
+struct XrayMarkerSpec {
+  int section{0};        // index into DeviceSpec::sections
+  double position{0.0};  // [m] from the section's proximal end to the band's start
+  double length{0.0};    // [m]
+  int material{-1};      // index into xrayMaterials()
 };
 
 /// What the device file says: sections from proximal to distal end, limits.
 struct DeviceSpec {
   std::string name;
   std::vector<DeviceSectionSpec> sections;
-  double max_insertion_speed{0.05};   // [m/s]
-  double max_rotation_speed{6.2832};  // [rad/s]
-  double rayleigh_mass{0.0};          // alpha in D = alpha M + beta K [1/s]
-  double rayleigh_stiffness{0.0};     // beta [s]
-  std::string detach_section;         // a coil: the section that detaches on command ("": none)
+  double max_insertion_speed{0.05};     // [m/s]
+  double max_rotation_speed{6.2832};    // [rad/s]
+  double rayleigh_mass{0.0};            // alpha in D = alpha M + beta K [1/s]
+  double rayleigh_stiffness{0.0};       // beta [s]
+  std::string detach_section;           // a coil: the section that detaches on command ("": none)
+  std::vector<XrayMarkerSpec> markers;  // radiopaque bands
 };
 
 struct DeviceModel {
@@ -53,6 +66,9 @@ struct DeviceModel {
   std::vector<double> section_friction;        // Coulomb coefficient per section [-]
   std::vector<double> section_lumen_radius;    // inner radius per section, 0: solid [m]
   std::vector<double> section_lumen_friction;  // Coulomb coefficient of the lumen wall [-]
+  std::vector<int> section_xray_material;      // index into xrayMaterials() per section
+  std::vector<double> section_xray_fill;       // volume fraction per section [-]
+  std::vector<XrayMarker> xray_markers;        // radiopaque bands, by material coordinate
   double max_insertion_speed{0.0};             // [m/s]
   double max_rotation_speed{0.0};              // [rad/s]
   double rayleigh_mass{0.0};                   // [1/s]

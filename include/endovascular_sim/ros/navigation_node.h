@@ -5,7 +5,8 @@
 // Subscribes: command (endovascular_sim/DeviceCommand), joy (sensor_msgs/Joy,
 //   with ~joystick set). Services: load_scene, list_scenes, reset
 //   (std_srvs/Trigger), pause (std_srvs/SetBool). Action: navigate_to
-//   (endovascular_sim/NavigateTo, ros/navigate_action.h). Parameters: see
+//   (endovascular_sim/NavigateTo, ros/navigate_action.h). Virtual
+//   fluoroscopy: ros/xray_publisher.h. Parameters: see
 //   NavigationNode::Parameters and docs/ros_interface.md.
 //
 // load_scene runs on a thread of its own (its own callback queue): a scene
@@ -36,6 +37,7 @@
 #include "endovascular_sim/ros/joystick_mapping.h"
 #include "endovascular_sim/ros/navigate_action.h"
 #include "endovascular_sim/ros/simulation_loop.h"
+#include "endovascular_sim/ros/xray_publisher.h"
 
 namespace evsim {
 
@@ -54,6 +56,7 @@ class NavigationNode {
     bool publish_clock{true};                // ~publish_clock: /clock from the simulation
     std::vector<std::string> scene_folders;  // ~scene_folders: more folders for load_scene
     bool allow_any_scene_path{false};        // ~allow_any_scene_path
+    bool xray{true};  // ~xray: virtual fluoroscopy on xray/image (rendered only when watched)
   };
 
   /// The scene file a load_scene request names, or why it is refused
@@ -106,6 +109,7 @@ class NavigationNode {
   boost::recursive_mutex reconfigure_mutex_;
   std::unique_ptr<dynamic_reconfigure::Server<endovascular_sim::SolverConfig>> reconfigure_;
   std::unique_ptr<NavigateActionServer> navigate_;  // (after loop_: destroyed before it)
+  std::unique_ptr<XrayPublisher> xray_;             // (after loop_: destroyed before it)
 };
 
 }  // namespace evsim

@@ -11,6 +11,7 @@
 #include "endovascular_sim/geometry/vessel_field.h"
 #include "endovascular_sim/mechanics/device_model.h"
 #include "endovascular_sim/mechanics/introducer.h"
+#include "endovascular_sim/scene/xray_spec.h"
 
 namespace evsim {
 
@@ -98,6 +99,7 @@ struct SceneSpec {
   std::vector<DevicePlacementSpec> devices;
   std::vector<ScriptedCommand> script;  // sorted by time
   std::vector<TargetSpec> targets;  // navigation targets (checked against the vessels when built)
+  XraySpec xray;                    // the X-ray system (`xray:`), for the images
   /// Length of the scripted procedure [s]: what `evsim bench` and the
   /// node's benchmark run by default. The file's `duration`, else the last
   /// command's time + 1 s (at least 1 s).

@@ -59,7 +59,10 @@ struct SceneModel {
   std::shared_ptr<const VesselField> vessels;      // null: free space
   std::shared_ptr<const ImplicitSurface> surface;  // what contacts are solved against
   std::shared_ptr<const VesselAtlas> atlas;        // the named vessels (null: free space)
+  std::shared_ptr<const Centerline> centerline;    // the vessels' skeleton (null: free space)
+  std::vector<AneurysmSpec> aneurysms;             // the domes blended with the vessels
   std::vector<Target> targets;                     // the scene's navigation targets
+  XraySpec xray;                                   // the scene's X-ray system (`xray:`)
   ContactOptions contact;
   SleepOptions sleep;                             // off with the effect 'vessel_motion'
   std::vector<std::vector<SamplePoint>> samples;  // contact sample points per device

@@ -38,8 +38,30 @@ int readSections(const DeviceSpec& spec, DeviceModel* m) {
                                   " has a negative lumen friction coefficient");
     m->section_lumen_radius.push_back(sec.section.inner_radius);
     m->section_lumen_friction.push_back(sec.lumen_friction);
+    m->section_xray_material.push_back(
+        sec.xray_material >= 0 ? sec.xray_material : findXrayMaterial(kDefaultXrayMaterial));
+    if (!(sec.xray_fill > 0.0 && sec.xray_fill <= 1.0))
+      throw std::invalid_argument("section " + sec.name + " has an xray_fill outside (0, 1]");
+    m->section_xray_fill.push_back(sec.xray_fill);
   }
   return num_elements;
+}
+
+/// The markers' bands in the device's material coordinate.
+std::vector<XrayMarker> placeMarkers(const DeviceSpec& spec) {
+  std::vector<XrayMarker> bands;
+  for (const XrayMarkerSpec& mk : spec.markers) {
+    if (mk.section < 0 || mk.section >= static_cast<int>(spec.sections.size()))
+      throw std::invalid_argument("a marker names no section of the device");
+    double start = 0.0;
+    for (int k = 0; k < mk.section; ++k) start += spec.sections[k].length;
+    const double length = spec.sections[mk.section].length;
+    if (!(mk.length > 0.0) || mk.position < 0.0 || mk.position + mk.length > length * (1 + 1e-12))
+      throw std::invalid_argument("a marker on section " + spec.sections[mk.section].name +
+                                  " lies beyond it");
+    bands.push_back({start + mk.position, start + mk.position + mk.length, mk.material});
+  }
+  return bands;
 }
 
 }  // namespace
@@ -54,6 +76,7 @@ DeviceModel buildDeviceModel(const DeviceSpec& spec) {
   m.rayleigh_stiffness = spec.rayleigh_stiffness;
   if (!spec.detach_section.empty()) m.detach_element = detachElement(spec);
   m.num_nodes = readSections(spec, &m) + 1;
+  m.xray_markers = placeMarkers(spec);
   const int n = m.num_nodes;
   m.node_s.assign(n, 0.0);
   m.node_mass.assign(n, 0.0);

@@ -13,7 +13,9 @@
 #include <memory>
 #include <sstream>
 
+#include "endovascular_sim/core/edit_distance.h"
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/mechanics/radiopacity.h"
 
 namespace evsim {
 namespace {
@@ -59,6 +61,21 @@ class AttributeReader {
     const double v = number(name, fallback);
     if (v < 0.0) fail(name, "must not be negative, got " + std::to_string(v));
     return v;
+  }
+
+  /// A material of xrayMaterials() by name (index).
+  int xrayMaterial(const char* name) const {
+    const char* text = element_->Attribute(name);
+    if (!text) fail(name, "is missing");
+    const int index = findXrayMaterial(text);
+    if (index >= 0) return index;
+    std::vector<std::string> names;
+    for (const XrayMaterial& m : xrayMaterials()) names.push_back(m.name);
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    const auto near = nearestNames(text, names, 1);
+    fail(name, std::string("unknown material '") + text + "'" +
+                   (near.empty() ? "" : " (did you mean '" + near[0] + "'?)") + "; known: " + list);
   }
 
   [[noreturn]] void fail(const std::string& name, const std::string& what) const {
@@ -142,8 +159,33 @@ DeviceSectionSpec readSection(const std::string& path, const TiXmlElement* robot
   sec.lumen_friction = x.nonNegative("lumen_friction", 0.0);
   if (sec.lumen_friction > 0.0 && sec.section.inner_radius == 0.0)
     x.fail("lumen_friction", "a solid section (inner_radius 0) has no lumen");
+  if (x.has("xray_material")) sec.xray_material = x.xrayMaterial("xray_material");
+  sec.xray_fill = x.number("xray_fill", 1.0);
+  if (!(sec.xray_fill > 0.0 && sec.xray_fill <= 1.0))
+    x.fail("xray_fill",
+           "must lie in (0, 1] (the fraction of the cross-section the material fills)");
   sec.section.density = m / (sec.section.area() * sec.length);
   return sec;
+}
+
+/// A radiopaque band: <evsim_marker link position length material/>.
+XrayMarkerSpec readMarker(const std::string& path, const TiXmlElement* e, const DeviceSpec& spec) {
+  AttributeReader x(path, e, "evsim_marker/");
+  const char* link = e->Attribute("link");
+  if (!link) x.fail("link", "is missing");
+  XrayMarkerSpec marker;
+  marker.section = -1;
+  for (size_t k = 0; k < spec.sections.size(); ++k)
+    if (spec.sections[k].name == link) marker.section = static_cast<int>(k);
+  if (marker.section < 0) x.fail("link", std::string("no section named '") + link + "'");
+  marker.position = x.nonNegative("position", 0.0);
+  marker.length = x.positive("length");
+  marker.material = x.xrayMaterial("material");
+  const double section_length = spec.sections[marker.section].length;
+  if (marker.position + marker.length > section_length * (1.0 + 1e-12))
+    x.fail("position", "the band (position + length) ends beyond its link's " +
+                           std::to_string(section_length) + " m");
+  return marker;
 }
 
 }  // namespace
@@ -224,6 +266,10 @@ DeviceSpec loadDeviceFile(const std::string& path) {
     throw LoadError(path, robot->Row(), "evsim_section/elements",
                     "the sections hold " + std::to_string(elements) +
                         " elements, more than the limit of 100000 a device");
+
+  for (auto* e = robot->FirstChildElement("evsim_marker"); e;
+       e = e->NextSiblingElement("evsim_marker"))
+    spec.markers.push_back(readMarker(path, e, spec));
 
   const TiXmlElement* device = robot->FirstChildElement("evsim_device");
   if (!device) throw LoadError(path, robot->Row(), "evsim_device", "is missing");

@@ -376,7 +376,7 @@ SceneSpec readSceneFile(const std::string& path) {
   if (!root.IsMap()) r.fail(root, "", "a scene is a YAML map");
   r.keys(root, "",
          {"name", "description", "time_step", "duration", "effects", "gravity", "vessels",
-          "contact", "sleep", "devices", "script", "targets"});
+          "contact", "sleep", "devices", "script", "targets", "xray"});
   SceneSpec s;
   s.file = path;
   s.name = r.text(r.required(root, "name", "name"), "name");
@@ -392,6 +392,7 @@ SceneSpec readSceneFile(const std::string& path) {
   if (root["vessels"]) s.vessels = readVessels(r, root["vessels"], scene_dir);
   if (root["contact"]) s.contact = readContact(r, root["contact"]);
   if (root["sleep"]) s.sleep = readSleep(r, root["sleep"]);
+  if (root["xray"]) s.xray = readXray(r, root["xray"]);
   s.contact.device_contact =
       std::find(s.effects.begin(), s.effects.end(), "device_contact") != s.effects.end();
   s.contact.friction = std::find(s.effects.begin(), s.effects.end(), "friction") != s.effects.end();

@@ -235,7 +235,10 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
     warnAcrossTheVessel(spec, centerline, *m.vessels, &m.warnings);
     m.surface = m.vessels;
     m.atlas = std::make_shared<const VesselAtlas>(centerline);
+    m.centerline = std::make_shared<const Centerline>(centerline);
+    m.aneurysms = spec.vessels.aneurysms;
   }
+  m.xray = spec.xray;
   checkAccessPoints(spec, m.vessels.get());
   m.targets = resolveTargets(spec, m.atlas.get());
   m.contact = spec.contact;
