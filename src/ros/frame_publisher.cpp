@@ -69,7 +69,7 @@ void FramePublisher::setScene(const SceneModel& model, std::shared_ptr<const Sur
   for (const DeviceModel& d : model.devices) {
     path_pubs_.push_back(nh_.advertise<nav_msgs::Path>("devices/" + d.name + "/path", 1));
     wrench_pubs_.push_back(
-        nh_.advertise<geometry_msgs::WrenchStamped>("devices/" + d.name + "/drive_wrench", 10));
+        nh_.advertise<geometry_msgs::WrenchStamped>("devices/" + d.name + "/drive_wrench", 200));
     // A device that can detach (a coil on its pusher): the detached part's
     // own path, empty until the detach.
     detached_path_pubs_.push_back(
@@ -111,21 +111,22 @@ void FramePublisher::publish(const FrameSnapshot& f, const LoopTiming& timing, i
     path_pubs_[i].publish(toPathMsg(f.devices[i], header));
     if (detached_path_pubs_[i])
       detached_path_pubs_[i].publish(toDetachedPathMsg(f.devices[i], header));
-    if (i < f.drives.size()) {
-      geometry_msgs::WrenchStamped w;
-      w.header = header;
-      w.wrench.force.x = f.drives[i].force.x();
-      w.wrench.force.y = f.drives[i].force.y();
-      w.wrench.force.z = f.drives[i].force.z();
-      w.wrench.torque.x = f.drives[i].moment.x();
-      w.wrench.torque.y = f.drives[i].moment.y();
-      w.wrench.torque.z = f.drives[i].moment.z();
-      wrench_pubs_[i].publish(w);
-    }
   }
   if (markers_pub_.getNumSubscribers() > 0) markers_pub_.publish(sceneMarkers(f, style_, header));
   publishTransforms(f, header);
   publishVesselMesh(f, header);
+}
+
+void FramePublisher::publishWrenches(const std::vector<std::vector<WrenchSample>>& samples) {
+  for (size_t i = 0; i < samples.size() && i < wrench_pubs_.size(); ++i)
+    for (const WrenchSample& s : samples[i]) {
+      geometry_msgs::WrenchStamped w;
+      w.header.frame_id = frame_id_;
+      w.header.stamp = clockAt(s.time);
+      w.wrench.force = toVector3(s.wrench.force);
+      w.wrench.torque = toVector3(s.wrench.moment);
+      wrench_pubs_[i].publish(w);
+    }
 }
 
 void FramePublisher::publishTransforms(const FrameSnapshot& f, const std_msgs::Header& header) {

@@ -60,6 +60,10 @@ NavigationNode::Parameters NavigationNode::readParameters(const ros::NodeHandle&
   readParam(nh, "scene_folders", &p.scene_folders, &problems, "a list of folder paths");
   readParam(nh, "allow_any_scene_path", &p.allow_any_scene_path, &problems, "true or false");
   readParam(nh, "xray", &p.xray, &problems, "true or false");
+  readParam(nh, "wrench_cutoff", &p.wrench_cutoff_hz, &problems, "a frequency [Hz]");
+  if (!(p.wrench_cutoff_hz >= 0.0 && p.wrench_cutoff_hz <= 1e4))
+    problems.push_back("~wrench_cutoff must lie in [0, 10000] Hz (0: no filter), got " +
+                       std::to_string(p.wrench_cutoff_hz));
   if (p.scene.empty()) problems.push_back("~scene must not be empty");
   if (!(p.rate_hz > 0.0 && p.rate_hz <= 1000.0))
     problems.push_back("~rate must lie in (0, 1000] Hz");
@@ -128,6 +132,7 @@ NavigationNode::NavigationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   progress_timer_ =
       nh_.createWallTimer(ros::WallDuration(1.0), &NavigationNode::onProgressTimer, this);
   last_publish_ = ros::WallTime::now();
+  loop_.setWrenchCutoff(params_.wrench_cutoff_hz);
   loop_.start();
   navigate_ = std::make_unique<NavigateActionServer>(nh_, &loop_);
   if (params_.xray)
@@ -203,6 +208,7 @@ bool NavigationNode::loadSceneNamed(const std::string& scene, std::string* messa
 void NavigationNode::onPublishTimer(const ros::WallTimerEvent&) {
   {
     std::lock_guard<std::mutex> lock(publisher_mutex_);
+    publisher_.publishWrenches(loop_.takeWrenches());
     publisher_.publish(loop_.snapshot(), loop_.timing(), joystick_state_.device);
   }
   ++frames_this_second_;

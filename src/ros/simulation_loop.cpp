@@ -45,11 +45,13 @@ void SimulationLoop::setScene(std::shared_ptr<const SceneModel> model, bool use_
   data_ = makeData(*model_);
   if (!use_script_) data_.next_script_entry = model_->script.size();
   rejections_ = 0;
+  wrench_filters_.clear();
   {
     std::lock_guard<std::mutex> status(status_mutex_);
     timing_ = LoopTiming{};
     timing_.steps_per_frame = stepsPerFrame(period_s_, model_->time_step);
     last_error_.clear();
+    wrench_samples_.clear();  // (another scene's devices)
   }
   shareState();
 }
@@ -61,9 +63,11 @@ void SimulationLoop::reset() {
   data_ = makeData(*model_);
   if (!use_script_) data_.next_script_entry = model_->script.size();
   rejections_ = 0;
+  wrench_filters_.clear();
   {
     std::lock_guard<std::mutex> status(status_mutex_);
     last_error_.clear();
+    for (auto& samples : wrench_samples_) samples.clear();  // (the clock restarts)
   }
   shareState();
 }
@@ -296,9 +300,40 @@ double SimulationLoop::runFrame() {
     }
     data_.notices.clear();
     simulated += model_->time_step;
+    recordWrenches();
     shareState();
   }
   return simulated;
+}
+
+void SimulationLoop::recordWrenches() {
+  const size_t n = data_.drives.size();
+  if (wrench_cutoff_hz_ > 0.0 && wrench_filters_.size() != n)
+    wrench_filters_.assign(n, WrenchLowPass(wrench_cutoff_hz_));
+  std::lock_guard<std::mutex> status(status_mutex_);
+  wrench_samples_.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const DriveWrench& w = wrench_cutoff_hz_ > 0.0
+                               ? wrench_filters_[i].update(data_.drives[i], model_->time_step)
+                               : data_.drives[i];
+    auto& samples = wrench_samples_[i];
+    if (samples.size() >= kMaxWrenchSamples) samples.erase(samples.begin());
+    samples.push_back({data_.time, w});
+  }
+}
+
+std::vector<std::vector<WrenchSample>> SimulationLoop::takeWrenches() {
+  std::lock_guard<std::mutex> status(status_mutex_);
+  std::vector<std::vector<WrenchSample>> taken(wrench_samples_.size());
+  std::swap(taken, wrench_samples_);
+  wrench_samples_.resize(taken.size());
+  return taken;
+}
+
+void SimulationLoop::setWrenchCutoff(double cutoff_hz) {
+  auto lock = lockForCaller();
+  wrench_cutoff_hz_ = cutoff_hz;
+  wrench_filters_.clear();
 }
 
 void SimulationLoop::run() {

@@ -8,6 +8,8 @@
 // force, where a kinematic drive's force grows past it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 
@@ -126,6 +128,37 @@ TEST(DriveLimit, AStallBlocksOnlyItsOwnSense) {
   EXPECT_NEAR(x.rotation_angle, -1e-3, 1e-15);
   advanceDrive(out, wire, 1e-3, &x, DriveStall{-1, -1});  // now that is blocked
   EXPECT_NEAR(x.inserted_length, 0.1 - 1e-5, 1e-15);
+}
+
+}  // namespace
+}  // namespace evsim
+
+namespace evsim {
+namespace {
+
+TEST(DriveForce, TheLowPassIsAnRcFilterSampledExactly) {
+  // A unit step: y(t) = 1 - exp(-t / tau), tau = 1 / (2 pi f_c), at every
+  // sample; a sine at the cutoff: amplitude 1 / sqrt(2) in steady state.
+  const double fc = 10.0, dt = 1e-3, tau = 1.0 / (2 * M_PI * fc);
+  WrenchLowPass step(fc);
+  DriveWrench zero, one;
+  one.axial_force = 1.0;
+  one.force = Vec3(0, 0, 1);
+  step.update(zero, dt);
+  for (int k = 1; k <= 200; ++k) {
+    const DriveWrench& y = step.update(one, dt);
+    EXPECT_NEAR(y.axial_force, 1.0 - std::exp(-k * dt / tau), 1e-12) << k;
+    EXPECT_NEAR(y.force.z(), y.axial_force, 1e-15);
+  }
+  WrenchLowPass sine(fc);
+  double peak = 0.0;
+  for (int k = 0; k < 2000; ++k) {
+    DriveWrench x;
+    x.axial_force = std::sin(2 * M_PI * fc * k * dt);
+    const double y = sine.update(x, dt).axial_force;
+    if (k > 1000) peak = std::max(peak, y);  // after ten time constants
+  }
+  EXPECT_NEAR(peak, 1.0 / std::sqrt(2.0), 0.01);
 }
 
 }  // namespace

@@ -268,6 +268,16 @@ class NavigationNodeTest(unittest.TestCase):
         for v in (w.wrench.force.x, w.wrench.force.y, w.wrench.force.z, w.wrench.torque.x):
             self.assertTrue(math.isfinite(v))
         self.assertTrue(math.isfinite(self.device().drive_force))
+        # Every step's wrench, stamped with its step's time: 1 ms apart (the
+        # scene file's time step), none missing, for half a simulated second.
+        dt = load_yaml('scenes', 'free_insertion.yaml')['time_step']
+        stamps = []
+        sub = rospy.Subscriber('devices/guidewire/drive_wrench', WrenchStamped,
+                               lambda m: stamps.append(m.header.stamp.to_sec()), queue_size=1000)
+        self.wait_for(lambda: len(stamps) > 600, '600 drive wrenches')
+        sub.unregister()
+        gaps = [b - a for a, b in zip(stamps, stamps[1:])]
+        self.assertLess(max(abs(g - dt) for g in gaps[:500]), 1e-6, gaps[:20])
 
     def test_a_patient_centreline_loads_like_any_scene(self):
         # patient_example: a VTK centreline (VMTK layout), its branches named

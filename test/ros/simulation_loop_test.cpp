@@ -43,6 +43,24 @@ TEST_F(Loop, FramesHoldTheScenesFixedSteps) {
   EXPECT_NEAR(f.time, f.step * model_->time_step, 1e-12);  // whole steps only
 }
 
+TEST_F(Loop, EveryStepsDriveWrenchIsKeptForThePublisher) {
+  // The node publishes the drive's wrench at the simulation's rate: one
+  // sample per step, stamped with the step's time, none lost between takes.
+  loop_.takeWrenches();
+  const long from = loop_.snapshot().step;
+  ASSERT_TRUE(eventually([&] { return loop_.snapshot().step >= from + 50; }));
+  std::vector<WrenchSample> all;
+  for (int take = 0; take < 3; ++take) {
+    const auto samples = loop_.takeWrenches();
+    ASSERT_EQ(samples.size(), model_->devices.size());
+    all.insert(all.end(), samples[0].begin(), samples[0].end());
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_GE(all.size(), 50u);
+  for (size_t k = 1; k < all.size(); ++k)
+    EXPECT_NEAR(all[k].time - all[k - 1].time, model_->time_step, 1e-12) << k;
+}
+
 TEST_F(Loop, PositionCommandReachesItsTarget) {
   const double target = model_->initial_inserted_length[0] + 0.01;
   DriveCommand c;

@@ -28,4 +28,22 @@ struct DriveWrench {
 DriveWrench driveWrench(const DeviceModel& model, const Introducer& introducer,
                         const DeviceState& state);
 
+/// A first-order low-pass of a drive's wrench, as a force sensor's filter:
+/// y += a (x - y) per sample, a = 1 - exp(-2 pi f_c dt), the exact step
+/// response of an RC filter of cutoff f_c sampled every dt (y reaches
+/// 1 - 1/e of a step after 1 / (2 pi f_c)). The first sample sets y.
+class WrenchLowPass {
+ public:
+  /// cutoff [Hz] > 0.
+  explicit WrenchLowPass(double cutoff_hz) : cutoff_hz_(cutoff_hz) {}
+  /// Filters one sample taken dt [s] after the last.
+  const DriveWrench& update(const DriveWrench& sample, double dt);
+  const DriveWrench& value() const { return y_; }
+
+ private:
+  double cutoff_hz_;
+  bool primed_{false};
+  DriveWrench y_;
+};
+
 }  // namespace evsim

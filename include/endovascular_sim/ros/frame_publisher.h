@@ -46,6 +46,9 @@ class FramePublisher {
   ros::Time clockAt(double t) const { return epoch_ + ros::Duration(t); }
 
   void publish(const FrameSnapshot& frame, const LoopTiming& timing, int driven_device);
+  /// Every step's drive wrench on devices/NAME/drive_wrench, stamped with
+  /// its step's time (the simulation's rate, in bursts of a frame).
+  void publishWrenches(const std::vector<std::vector<WrenchSample>>& samples);
   /// One DiagnosticStatus for the loop: OK, WARN when frames overran or the
   /// real-time factor fell below 0.9 since the last call, ERROR after a
   /// rejected step.

@@ -25,6 +25,12 @@ struct FrameSnapshot {
   MotionSnapshot motion;                // of the vessels at `time` (empty when they do not move)
 };
 
+/// One step's drive wrench (the node publishes every step's).
+struct WrenchSample {
+  double time{0.0};  // [s] simulated
+  DriveWrench wrench;
+};
+
 /// Timing of the simulation loop, as the diagnostics and stats report it.
 struct LoopTiming {
   int steps_per_frame{1};

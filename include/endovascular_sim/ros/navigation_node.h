@@ -57,6 +57,7 @@ class NavigationNode {
     std::vector<std::string> scene_folders;  // ~scene_folders: more folders for load_scene
     bool allow_any_scene_path{false};        // ~allow_any_scene_path
     bool xray{true};  // ~xray: virtual fluoroscopy on xray/image (rendered only when watched)
+    double wrench_cutoff_hz{0.0};  // ~wrench_cutoff: low-pass of drive_wrench [Hz]; 0 = raw
   };
 
   /// The scene file a load_scene request names, or why it is refused

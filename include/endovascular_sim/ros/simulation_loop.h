@@ -86,6 +86,15 @@ class SimulationLoop {
   /// script commands, drives stopped at their limits), oldest first.
   std::vector<std::string> takeNotices();
 
+  /// Every step's drive wrenches since the last call, per device, oldest
+  /// first (the node publishes them at the simulation's rate). With a
+  /// cutoff [Hz] > 0 (setWrenchCutoff) they are low-passed step by step.
+  /// At most kMaxWrenchSamples a device are kept between two calls.
+  std::vector<std::vector<WrenchSample>> takeWrenches();
+  /// 0: the raw wrench; else the low-pass cutoff [Hz] (reset by a new scene).
+  void setWrenchCutoff(double cutoff_hz);
+  static constexpr size_t kMaxWrenchSamples = 100000;
+
   /// Rejections of one state before the recovery step (with
   /// evsim::recoveryModel, sim/simulation.h).
   static constexpr int kRejectionsBeforeRecovery = 3;
@@ -110,6 +119,8 @@ class SimulationLoop {
   void endNavigation(const std::string& why);
   /// Shares the autopilot's status (mutex_ held).
   void shareNavigation(const std::string& event);
+  /// Appends the last step's wrenches (mutex_ held).
+  void recordWrenches();
 
   const double period_s_;
   mutable std::mutex mutex_;  // the simulation: held for a whole step
@@ -126,6 +137,9 @@ class SimulationLoop {
   int rejections_{0};                 // of the current state (mutex_)
   std::unique_ptr<Autopilot> pilot_;  // the running navigation (mutex_)
   NavigationStatus navigation_;       // (status_mutex_)
+  double wrench_cutoff_hz_{0.0};                          // (mutex_)
+  std::vector<WrenchLowPass> wrench_filters_;             // per device (mutex_)
+  std::vector<std::vector<WrenchSample>> wrench_samples_;  // (status_mutex_)
 
   mutable std::atomic<int> waiters_{0};
   std::atomic<bool> running_{false};

@@ -1,6 +1,7 @@
 #include "endovascular_sim/mechanics/drive_wrench.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "endovascular_sim/mechanics/beam_element.h"
 
@@ -22,6 +23,20 @@ DriveWrench driveWrench(const DeviceModel& model, const Introducer& introducer,
   w.axial_force = w.force.dot(axis);
   w.axial_torque = w.moment.dot(axis);
   return w;
+}
+
+const DriveWrench& WrenchLowPass::update(const DriveWrench& x, double dt) {
+  if (!primed_) {
+    y_ = x;
+    primed_ = true;
+    return y_;
+  }
+  const double a = 1.0 - std::exp(-2.0 * M_PI * cutoff_hz_ * dt);
+  y_.force += a * (x.force - y_.force);
+  y_.moment += a * (x.moment - y_.moment);
+  y_.axial_force += a * (x.axial_force - y_.axial_force);
+  y_.axial_torque += a * (x.axial_torque - y_.axial_torque);
+  return y_;
 }
 
 }  // namespace evsim
