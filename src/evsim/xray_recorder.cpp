@@ -102,6 +102,12 @@ bool XrayRecorder::start(const SimData& data, std::string* why) {
     *why = "cannot write " + options_.out + "/camera_info.yaml";
     return false;
   }
+  labels_.open(options_.out + "/frames.csv");
+  labels_ << "frame,time_s,device,tip_u_px,tip_v_px,tip_depth_m,tip_vessel\n";
+  if (!labels_) {
+    *why = "cannot write " + options_.out + "/frames.csv";
+    return false;
+  }
   next_frame_ = data.time;
   return onStep(data, why);
 }
@@ -137,10 +143,26 @@ bool XrayRecorder::writeFrame(const SimData& data, std::string* why) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   devices_ms_ += renderer_.stats().devices_ms;
   vessels_ms_ += renderer_.stats().vessels_ms;
+  writeLabels(data);
   char name[64];
   std::snprintf(name, sizeof(name), "/frame_%05ld.png", frames_);
   ++frames_;
   return writePng(options_.out + name, frame.width, frame.height, gray, why);
+}
+
+void XrayRecorder::writeLabels(const SimData& data) {
+  const XrayCamera& c = renderer_.camera();
+  for (size_t d = 0; d < data.devices.size(); ++d) {
+    const Vec3 tip = c.project(data.devices[d].position.back());
+    const std::string vessel = model_.atlas && d < data.tips.size() && data.tips[d].vessel >= 0
+                                   ? model_.atlas->vessels()[data.tips[d].vessel].name
+                                   : "";
+    char line[256];
+    std::snprintf(line, sizeof(line), "%ld,%.6f,%s,%.3f,%.3f,%.6f,%s\n", frames_, data.time,
+                  model_.devices[d].name.c_str(), tip.x(), tip.y(), tip.z(), vessel.c_str());
+    labels_ << line;
+  }
+  labels_.flush();
 }
 
 std::string XrayRecorder::summary() const {

@@ -5,8 +5,12 @@
 //   DIR/camera_info.yaml  the projection as a ROS camera (K, P) and the
 //                         C-arm's pose (source position, rotation to the
 //                         camera frame) in the scene frame
+//   DIR/frames.csv        per frame and device: the time, the tip's pixel
+//                         (u, v), its depth along the beam and the named
+//                         vessel it is in (labels for learning from images)
 #pragma once
 
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -39,6 +43,7 @@ class XrayRecorder {
 
  private:
   bool writeFrame(const SimData& data, std::string* why);
+  void writeLabels(const SimData& data);
   const SceneModel& model_;
   XrayRecorderOptions options_;
   XrayRenderer renderer_;
@@ -51,6 +56,7 @@ class XrayRecorder {
   double render_ms_{0.0}, devices_ms_{0.0}, vessels_ms_{0.0};
   double peak_contrast_{0.0};
   std::vector<float> roadmap_;  // the angiogram at its strongest
+  std::ofstream labels_;        // frames.csv
 };
 
 }  // namespace evsim

@@ -246,6 +246,12 @@ TEST(EvsimCli, RenderWritesAFramePerPeriodAndTheCameraThatMadeThem) {
   std::ifstream info(out / "camera_info.yaml");
   const std::string text((std::istreambuf_iterator<char>(info)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("data: [256, 0, 31.5, 0, 256, 31.5, 0, 0, 1]"), std::string::npos) << text;
+  // A label line per frame and device: the header, then 5 frames of the wire.
+  std::ifstream labels(out / "frames.csv");
+  std::string line;
+  int lines = 0;
+  while (std::getline(labels, line)) ++lines;
+  EXPECT_EQ(lines, 1 + 5);
   fs::remove_all(out);
 }
 
