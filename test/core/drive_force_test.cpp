@@ -80,6 +80,44 @@ TEST(DriveForce, AFreeWireNeedsNoForceToMoveSteadilyOrTurn) {
   EXPECT_LT(worst_torque, 1e-6);
 }
 
+TEST(DriveForce, TheValveGripsAgainstTheDrivesMotion) {
+  // The free wire of the test above behind a valve of 0.2 N and 0.1 mN m:
+  // the drive feels the grip against its motion, nothing at rest, and a
+  // limit below the grip stalls it.
+  SceneSpec spec = loadSceneFile(resolveScenePath("free_insertion"));
+  spec.effects = {};
+  spec.devices[0].device.rayleigh_mass = 20.0;
+  spec.devices[0].drive.valve_friction = 0.2;
+  spec.devices[0].drive.valve_torque = 1e-4;
+  spec.script.clear();
+  const SceneModel model = buildSceneModel(spec);
+  SimData data = makeData(model);
+  const std::string& wire = model.devices[0].name;
+  auto run = [&](double insertion, double rotation, int steps) {
+    EXPECT_EQ(setCommand(model, &data, wire, {DriveCommand::Mode::kVelocity, insertion, rotation}),
+              "");
+    for (int k = 0; k < steps; ++k) ASSERT_EQ(step(model, &data), StepStatus::kOk);
+  };
+  run(0.01, 1.0, 1000);  // in, turning
+  EXPECT_NEAR(data.drives[0].axial_force, 0.2, 1e-4);
+  EXPECT_NEAR(data.drives[0].axial_torque, 1e-4, 1e-6);
+  EXPECT_NEAR(data.drives[0].force.dot(model.introducers[0].frame.col(0)), 0.2, 1e-4);
+  run(-0.01, 0.0, 1000);  // out
+  EXPECT_NEAR(data.drives[0].axial_force, -0.2, 1e-4);
+  EXPECT_NEAR(data.drives[0].axial_torque, 0.0, 1e-6);
+  run(0.0, 0.0, 1000);  // at rest
+  EXPECT_NEAR(data.drives[0].axial_force, 0.0, 1e-4);
+  // A hand that slips beyond 0.1 N cannot push through the 0.2 N valve.
+  spec.devices[0].drive.max_force = 0.1;
+  const SceneModel weak = buildSceneModel(spec);
+  SimData held = makeData(weak);
+  ASSERT_EQ(setCommand(weak, &held, wire, {DriveCommand::Mode::kVelocity, 0.01, 0.0}), "");
+  const double start = held.devices[0].inserted_length;
+  for (int k = 0; k < 500; ++k) ASSERT_EQ(step(weak, &held), StepStatus::kOk);
+  EXPECT_LT(held.devices[0].inserted_length - start, 1e-4);  // 5 mm commanded
+  EXPECT_EQ(held.stalls[0].insertion, 1);
+}
+
 /// dead_end (its J-tip wire pushed at 40 mm/s into the closed tube) to t,
 /// with a drive limit of `limit` N (infinite: kinematic).
 SimData pushIntoTheClosedTube(double limit, int steps, SceneModel* model) {

@@ -43,10 +43,14 @@ TEST_F(Loader, DriveLimitsAreReadAndChecked) {
   write("wire.urdf", kDevice);
   std::string text = kScene;
   text.replace(text.find("inserted_length: 0.05"), 21,
-               "inserted_length: 0.05\n    drive: {max_force: 2.5, max_torque: 0.004}");
+               "inserted_length: 0.05\n    drive: {max_force: 2.5, max_torque: 0.004, "
+               "valve_friction: 0.3, valve_torque: 0.0002}");
   const SceneSpec s = loadSceneFile(write("scene.yaml", text));
   EXPECT_EQ(s.devices[0].drive.max_force, 2.5);
   EXPECT_EQ(s.devices[0].drive.max_torque, 0.004);
+  EXPECT_EQ(s.devices[0].drive.valve_friction, 0.3);
+  EXPECT_EQ(s.devices[0].drive.valve_torque, 0.0002);
+  EXPECT_EQ(loadSceneFile(write("plain.yaml", kScene)).devices[0].drive.valve_friction, 0.0);
   EXPECT_TRUE(std::isinf(loadSceneFile(write("plain.yaml", kScene)).devices[0].drive.max_force));
   expectNames(
       sceneError("inserted_length: 0.05", "inserted_length: 0.05\n    drive: {max_force: -1}"),
@@ -54,6 +58,9 @@ TEST_F(Loader, DriveLimitsAreReadAndChecked) {
   expectNames(
       sceneError("inserted_length: 0.05", "inserted_length: 0.05\n    drive: {max_torque: 0}"),
       "scene.yaml", 10, "devices[0].drive.max_torque", "must be a positive torque");
+  expectNames(sceneError("inserted_length: 0.05",
+                         "inserted_length: 0.05\n    drive: {valve_friction: -0.1}"),
+              "scene.yaml", 10, "devices[0].drive.valve_friction", "[0, 100] N");
   expectNames(
       sceneError("inserted_length: 0.05", "inserted_length: 0.05\n    drive: {max_forse: 1}"),
       "scene.yaml", 10, "devices[0].drive.max_forse", "max_force");

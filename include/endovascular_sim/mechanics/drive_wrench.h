@@ -7,7 +7,8 @@
 // that balances the first element leaving the sheath at the last held node:
 // F = dE/dx_k, M = dE/dtheta_k of that element (elastic forces; the held
 // part's inertia and the element's Rayleigh damping are left out, small at
-// steady insertion). No friction in the introducer is modelled.
+// steady insertion). The introducer valve's friction (DriveSpec) is added
+// by the step, which knows the drive's motion.
 #pragma once
 
 #include "endovascular_sim/mechanics/device_model.h"

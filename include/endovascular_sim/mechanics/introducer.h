@@ -50,13 +50,25 @@ constexpr double kMaxRotationTarget = 2000.0 * M_PI;
 /// rotation beyond kMaxRotationTarget.
 std::string validateDriveCommand(const DriveCommand& command, const DeviceModel& model);
 
-/// What a drive can apply, like a hand or a robot's rollers: beyond its force
-/// [N] along the insertion axis or its torque [N m] about it the device slips
-/// in the drive (stalls) and the command is not followed. Infinite (the
-/// default): a kinematic drive that imposes its command whatever it takes.
-struct DriveLimits {
+/// A device's drive and the introducer it passes through.
+///
+/// What the drive can apply, like a hand or a robot's rollers: beyond its
+/// force [N] along the insertion axis or its torque [N m] about it the
+/// device slips in the drive (stalls) and the command is not followed.
+/// Infinite (the default): a kinematic drive that imposes its command
+/// whatever it takes.
+///
+/// The introducer's haemostasis valve grips the device: a Coulomb friction
+/// of valve_friction [N] against its insertion or retraction and
+/// valve_torque [N m] against its rotation while the drive moves it that
+/// way. The drive feels it (it adds to the drive's wrench, and counts
+/// against the limits); the device's motion beyond the valve does not, the
+/// drive imposing the motion. 0 (the default): no valve.
+struct DriveSpec {
   double max_force{std::numeric_limits<double>::infinity()};   // [N]
   double max_torque{std::numeric_limits<double>::infinity()};  // [N m]
+  double valve_friction{0.0};                                  // [N]
+  double valve_torque{0.0};                                    // [N m]
 };
 
 /// The motions a drive cannot impose this step, each +1 (in: the resistance

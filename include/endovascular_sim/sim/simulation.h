@@ -68,7 +68,7 @@ struct SceneModel {
   std::vector<std::vector<SamplePoint>> samples;  // contact sample points per device
   std::vector<DeviceModel> devices;
   std::vector<Introducer> introducers;
-  std::vector<DriveLimits> drive_limits;        // per device (scene key devices[].drive)
+  std::vector<DriveSpec> drive_specs;        // per device (scene key devices[].drive)
   std::vector<double> initial_inserted_length;  // [m]
   std::vector<double> initial_rotation;         // [rad]
   std::vector<int> outer_of;  // effect 'coaxial': per device its outer device (-1); else empty
@@ -172,7 +172,9 @@ constexpr double kTipLength = 5e-3;
 /// Recomputes data->drives and data->tip_forces from the state and the
 /// contacts, and data->stalls from the drives and the scene's drive limits
 /// (step() does it after every step: the next step's drives do not move a
-/// device in a direction whose resistance reached the limit).
+/// device in a direction whose resistance reached the limit). The
+/// introducer valve's friction (DriveSpec) is added by step() alone, which
+/// knows the drive's motion.
 void measureForces(const SceneModel& model, SimData* data);
 
 /// Recomputes data->tips and the targets' progress at data->time (step()

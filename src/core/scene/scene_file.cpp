@@ -25,11 +25,12 @@ constexpr double kLengthTolerance = 1e-9;   // relative, on lengths compared wit
 constexpr double kMinElementLength = 1e-5;  // [m] max_element_length's floor
 constexpr double kMaxDeviceElements = 1e5;  // per device, after refinement
 
-/// `drive: {max_force: N, max_torque: N m}`: each positive, either omitted
-/// for no limit.
-DriveLimits readDriveLimits(const YamlReader& r, const YAML::Node& n, const std::string& key) {
-  r.keys(n, key, {"max_force", "max_torque"});
-  DriveLimits limits;
+/// `drive: {max_force: N, max_torque: N m, valve_friction: N, valve_torque:
+/// N m}`: the limits each positive, omitted for none; the valve's grip not
+/// negative, 0 when omitted.
+DriveSpec readDrive(const YamlReader& r, const YAML::Node& n, const std::string& key) {
+  r.keys(n, key, {"max_force", "max_torque", "valve_friction", "valve_torque"});
+  DriveSpec drive;
   for (const char* name : {"max_force", "max_torque"}) {
     if (!n[name]) continue;
     const double v = r.number(n[name], key + "." + name);
@@ -37,9 +38,15 @@ DriveLimits readDriveLimits(const YamlReader& r, const YAML::Node& n, const std:
       r.fail(n[name], key + "." + name,
              std::string("must be a positive ") + (name[4] == 'f' ? "force [N]" : "torque [N m]") +
                  " (omit it for a drive without limit)");
-    (name[4] == 'f' ? limits.max_force : limits.max_torque) = v;
+    (name[4] == 'f' ? drive.max_force : drive.max_torque) = v;
   }
-  return limits;
+  drive.valve_friction = r.number(n, "valve_friction", key + ".", 0.0);
+  drive.valve_torque = r.number(n, "valve_torque", key + ".", 0.0);
+  if (!(drive.valve_friction >= 0.0 && drive.valve_friction <= 100.0))
+    r.fail(n["valve_friction"], key + ".valve_friction", "must lie in [0, 100] N");
+  if (!(drive.valve_torque >= 0.0 && drive.valve_torque <= 1.0))
+    r.fail(n["valve_torque"], key + ".valve_torque", "must lie in [0, 1] N m");
+  return drive;
 }
 
 DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int index,
@@ -106,7 +113,7 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
            "must lie in [0, " + std::to_string(model.length) + "] m (the device's length)");
   d.inserted_length = std::min(d.inserted_length, model.length);
   d.rotation = r.number(n, "rotation", p, 0.0);
-  if (n["drive"]) d.drive = readDriveLimits(r, n["drive"], p + "drive");
+  if (n["drive"]) d.drive = readDrive(r, n["drive"], p + "drive");
   return d;
 }
 

@@ -248,7 +248,7 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
   for (const auto& d : spec.devices) {
     m.devices.push_back(buildDeviceModel(d.device));
     m.introducers.push_back(d.introducer);
-    m.drive_limits.push_back(d.drive);
+    m.drive_specs.push_back(d.drive);
     m.initial_inserted_length.push_back(d.inserted_length);
     m.initial_rotation.push_back(d.rotation);
     m.samples.push_back(sampleDevice(m.devices.back(), m.contact.contact_spacing));

@@ -254,7 +254,7 @@ void locateTips(const SceneModel& model, SimData* data) {
 }
 
 /// The motions a drive cannot impose: a resistance at or beyond its limit.
-DriveStall stallOf(const DriveWrench& w, const DriveLimits& limits) {
+DriveStall stallOf(const DriveWrench& w, const DriveSpec& limits) {
   DriveStall s;
   s.insertion = w.axial_force >= limits.max_force ? 1 : w.axial_force <= -limits.max_force ? -1 : 0;
   s.rotation = w.axial_torque >= limits.max_torque    ? 1
@@ -289,16 +289,43 @@ void noteStall(const SceneModel& model, size_t i, SimData* data) {
   if (insertion)
     m << std::abs(w.axial_force) << " N resists its "
       << (now.insertion > 0 ? "insertion" : "retraction") << " (limit "
-      << model.drive_limits[i].max_force << " N)";
+      << model.drive_specs[i].max_force << " N)";
   if (insertion && rotation) m << ", ";
   if (rotation)
     m << std::abs(w.axial_torque) << " N m resists its rotation (limit "
-      << model.drive_limits[i].max_torque << " N m)";
+      << model.drive_specs[i].max_torque << " N m)";
   m << "; it follows the command again once the resistance falls below the limit";
   data->notices.push_back(m.str());
 }
 
-void measureForces(const SceneModel& model, SimData* data) {
+/// The introducer valve's friction against the motion the drive made this
+/// step (from `before` to now), added to what the drive applies; a drive
+/// stalled against its command keeps feeling it (the valve holds the
+/// device as firmly as it drags it).
+void addValveFriction(const DriveSpec& spec, const Introducer& introducer,
+                      const DriveReading& before, const DeviceState& now,
+                      const DriveCommand& command, const DriveStall& stalled, DriveWrench* w) {
+  if (now.released) return;
+  const Vec3 axis = introducer.frame.col(0);
+  auto sense = [](double moved, int stalled_sense, int commanded) {
+    if (moved != 0.0) return moved > 0.0 ? 1 : -1;
+    return stalled_sense != 0 && stalled_sense == commanded ? commanded : 0;
+  };
+  const int in = sense(now.inserted_length - before.inserted, stalled.insertion,
+                       commandedSense(command.mode, command.insertion, now.inserted_length));
+  const int turn = sense(now.rotation_angle - before.angle, stalled.rotation,
+                         commandedSense(command.mode, command.rotation, now.rotation_angle));
+  const double f = in * spec.valve_friction, m = turn * spec.valve_torque;
+  w->axial_force += f;
+  w->force += f * axis;
+  w->axial_torque += m;
+  w->moment += m * axis;
+}
+
+/// The drives' wrenches (with the valves' friction against the motion since
+/// `before`, when given), their stalls, and the tips' contact forces.
+void measureForcesSince(const SceneModel& model, SimData* data,
+                        const std::vector<DriveReading>* before) {
   const size_t n = model.devices.size();
   data->drives.resize(n);
   data->stalls.resize(n);
@@ -306,8 +333,11 @@ void measureForces(const SceneModel& model, SimData* data) {
   data->tip_forces.assign(n, Vec3::Zero());
   for (size_t i = 0; i < n; ++i) {
     data->drives[i] = driveWrench(model.devices[i], model.introducers[i], data->devices[i]);
-    if (i >= model.drive_limits.size()) continue;
-    data->stalls[i] = stallOf(data->drives[i], model.drive_limits[i]);
+    if (i >= model.drive_specs.size()) continue;
+    if (before && i < data->commands.size())
+      addValveFriction(model.drive_specs[i], model.introducers[i], (*before)[i], data->devices[i],
+                       data->commands[i], data->stalls[i], &data->drives[i]);
+    data->stalls[i] = stallOf(data->drives[i], model.drive_specs[i]);
     noteStall(model, i, data);
   }
   auto atTip = [&](int device, const SamplePoint& s) {
@@ -320,6 +350,10 @@ void measureForces(const SceneModel& model, SimData* data) {
     if (c.other_device >= 0 && !c.lumen && atTip(c.other_device, c.other))
       data->tip_forces[c.other_device] -= f;
   }
+}
+
+void measureForces(const SceneModel& model, SimData* data) {
+  measureForcesSince(model, data, nullptr);
 }
 
 VesselLocation locateInVessels(const SceneModel& model, const SimData& data, const Vec3& p) {
@@ -439,7 +473,7 @@ StepStatus step(const SceneModel& model, SimData* data) {
     ++data->step;
     noteDriveLimits(model, before, data);
     locateTips(model, data);
-    measureForces(model, data);
+    measureForcesSince(model, data, &before);
     noteRest(model, before, data);
   } else {
     data->resting_steps = 0;
