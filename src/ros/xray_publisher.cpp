@@ -55,9 +55,12 @@ XrayPublisher::~XrayPublisher() {
 }
 
 bool XrayPublisher::follow(const std::shared_ptr<const SceneModel>& model) {
-  if (model == model_ && renderer_) return false;
+  if (!model || (model == model_ && renderer_)) return false;
+  // The scene's xray: section was validated at load; the renderer is built
+  // before it replaces the current one, so a failure keeps the old scene's.
+  auto renderer = std::make_unique<XrayRenderer>(*model, model->xray);
   model_ = model;
-  renderer_ = std::make_unique<XrayRenderer>(*model_, model_->xray);
+  renderer_ = std::move(renderer);
   angiogram_.clear();
   angiogram_sum_ = 0.0;
   return true;
@@ -67,6 +70,7 @@ void XrayPublisher::showSettings() {
   endovascular_sim::XrayConfig config;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (!renderer_) return;
     const XraySpec& s = renderer_->spec();
     config.lao_deg = s.c_arm.lao * 180.0 / M_PI;
     config.cranial_deg = s.c_arm.cranial * 180.0 / M_PI;
@@ -95,11 +99,20 @@ void XrayPublisher::run() {
                     start);
     if (camera_pub_.getNumSubscribers() == 0) continue;  // nobody looks: nothing rendered
     const FrameSnapshot snap = loop_->snapshot();
+    if (!snap.model) continue;
     sensor_msgs::ImagePtr image = boost::make_shared<sensor_msgs::Image>();
     XrayCamera camera;
+    bool switched = false;  // a new scene: its C-arm shown in reconfigure
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      follow(snap.model);
+      try {
+        switched = follow(snap.model);
+      } catch (const std::exception& e) {  // (a bug: say so, keep the node)
+        ROS_ERROR_THROTTLE(10.0, "xray: cannot image scene '%s': %s", snap.model->name.c_str(),
+                           e.what());
+        continue;
+      }
+      if (!renderer_) continue;
       std::vector<DevicePose> poses;
       for (const DeviceState& d : snap.devices) poses.push_back({d.position, d.cut_element});
       XrayFrame frame;
@@ -114,6 +127,7 @@ void XrayPublisher::run() {
       image->height = frame.height;
       camera = renderer_->camera();
     }
+    if (switched) showSettings();  // before the new scene's first image
     image->header.stamp = ros::Time::now();
     image->header.frame_id = kSourceFrame;
     image->encoding = sensor_msgs::image_encodings::MONO8;
@@ -150,6 +164,11 @@ bool XrayPublisher::onSetCArm(endovascular_sim::SetCArm::Request& req,
                               endovascular_sim::SetCArm::Response& res) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (!renderer_) {
+      res.success = false;
+      res.message = "no scene to image";
+      return true;
+    }
     CArmSpec c = renderer_->spec().c_arm;
     c.lao = req.lao_deg * M_PI / 180.0;
     c.cranial = req.cranial_deg * M_PI / 180.0;
@@ -175,7 +194,18 @@ bool XrayPublisher::onInject(endovascular_sim::InjectContrast::Request& req,
                              endovascular_sim::InjectContrast::Response& res) {
   const FrameSnapshot snap = loop_->snapshot();
   std::lock_guard<std::mutex> lock(mutex_);
-  follow(snap.model);
+  try {
+    follow(snap.model);
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = std::string("cannot image the scene: ") + e.what();
+    return true;
+  }
+  if (!model_) {
+    res.success = false;
+    res.message = "no scene";
+    return true;
+  }
   int device = req.device.empty() ? 0 : -1;
   for (size_t d = 0; d < model_->devices.size(); ++d)
     if (model_->devices[d].name == req.device) device = static_cast<int>(d);
@@ -205,29 +235,32 @@ bool XrayPublisher::onInject(endovascular_sim::InjectContrast::Request& req,
 }
 
 void XrayPublisher::onReconfigure(endovascular_sim::XrayConfig& config, uint32_t) {
-  std::string refused;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    CArmSpec c = renderer_->spec().c_arm;
-    c.lao = config.lao_deg * M_PI / 180.0;
-    c.cranial = config.cranial_deg * M_PI / 180.0;
-    XraySpec spec = renderer_->spec();
-    spec.c_arm = c;
-    spec.frame_rate = config.frame_rate;
-    spec.photons = config.photons;
-    spec.blur = config.blur;
-    refused = validateXray(spec);
-    if (refused.empty()) {
-      if (c.lao != renderer_->spec().c_arm.lao || c.cranial != renderer_->spec().c_arm.cranial)
-        renderer_->setCArm(c);
-      renderer_->setDetector(spec.frame_rate, spec.photons, spec.blur);
-      roadmap_ = config.roadmap;
-    }
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!renderer_) return;
+  XraySpec spec = renderer_->spec();
+  spec.c_arm.lao = config.lao_deg * M_PI / 180.0;
+  spec.c_arm.cranial = config.cranial_deg * M_PI / 180.0;
+  spec.frame_rate = config.frame_rate;
+  spec.photons = config.photons;
+  spec.blur = config.blur;
+  const std::string refused = validateXray(spec);
+  if (refused.empty()) {
+    if (spec.c_arm.lao != renderer_->spec().c_arm.lao ||
+        spec.c_arm.cranial != renderer_->spec().c_arm.cranial)
+      renderer_->setCArm(spec.c_arm);
+    renderer_->setDetector(spec.frame_rate, spec.photons, spec.blur);
+    roadmap_ = config.roadmap;
+    return;
   }
-  if (!refused.empty()) {
-    ROS_WARN_STREAM("xray: refused: " << refused << "; the settings in force are kept");
-    showSettings();
-  }
+  ROS_WARN_STREAM("xray: refused: " << refused << "; the settings in force are kept");
+  // The server publishes what the callback leaves in config: the settings in force.
+  const XraySpec& kept = renderer_->spec();
+  config.lao_deg = kept.c_arm.lao * 180.0 / M_PI;
+  config.cranial_deg = kept.c_arm.cranial * 180.0 / M_PI;
+  config.frame_rate = kept.frame_rate;
+  config.photons = kept.photons;
+  config.blur = kept.blur;
+  config.roadmap = roadmap_;
 }
 
 }  // namespace evsim

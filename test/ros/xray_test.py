@@ -8,6 +8,7 @@ CameraInfo and tf, as any ROS tool would back-project), and the requests the
 test sends.
 """
 import math
+import os
 import threading
 import time
 import unittest
@@ -17,9 +18,12 @@ import rostest
 import tf2_ros
 from dynamic_reconfigure.client import Client
 from endovascular_sim.msg import DeviceStatusArray
-from endovascular_sim.srv import InjectContrast, SetCArm
+import yaml
+from endovascular_sim.srv import InjectContrast, LoadScene, SetCArm
 from sensor_msgs.msg import CameraInfo, Image
 
+CONFIG = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
+                      'config')
 # The documented defaults of a scene without `xray:` (docs/sensors.md).
 SID, DETECTOR, PIXELS = 1.2, 0.3, 512
 
@@ -180,6 +184,24 @@ class XrayTest(unittest.TestCase):
         after, _ = self.next_image()
         darker = sum(1 for a, b in zip(bytearray(before.data), bytearray(after.data)) if b + 20 < a)
         self.assertGreater(darker, 100)
+
+    def test_6_a_new_scene_brings_its_own_c_arm(self):
+        # arch_navigation's xray: section sets LAO 30 (the scene file).
+        with open(os.path.join(CONFIG, 'scenes', 'arch_navigation.yaml')) as f:
+            lao = math.radians(yaml.safe_load(f)['xray']['lao_deg'])
+        rospy.wait_for_service('load_scene', timeout=60)
+        res = rospy.ServiceProxy('load_scene', LoadScene)('arch_navigation')
+        self.assertTrue(res.success, res.message)
+        deadline = time.time() + 30
+        while time.time() < deadline and abs(self.beam()[0] - math.sin(lao)) > 1e-6:
+            self.next_image()
+        self.assertAlmostEqual(self.beam()[0], math.sin(lao), places=6)
+        client = Client('navigation_node/xray', timeout=30)
+        deadline = time.time() + 10
+        while (time.time() < deadline
+               and abs(client.get_configuration(timeout=5)['lao_deg'] - math.degrees(lao)) > 1e-9):
+            time.sleep(0.1)
+        self.assertAlmostEqual(client.get_configuration(timeout=5)['lao_deg'], math.degrees(lao))
 
 
 if __name__ == '__main__':
