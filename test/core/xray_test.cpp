@@ -183,6 +183,38 @@ TEST(Xray, AKnownPointProjectsWhereTheCameraSays) {
   EXPECT_NEAR(sv / sum, v_expected, 0.1);
 }
 
+TEST(Xray, TheSpineShowsItsBodiesAndNotItsDiscs) {
+  // A column of radius 20 mm along z through the isocentre, 25 mm bodies,
+  // 5 mm discs, 30 % bone: the ray through the middle of a body meets bone
+  // along 0.3 x its chord 2R / sin(slant); through a disc, none.
+  XraySpec spec = bare(256, 0.3, 1);
+  spec.spine.present = true;
+  spec.spine.center = Vec3::Zero();
+  const SceneModel nothing;  // (the renderer keeps a reference)
+  XrayRenderer renderer(nothing, spec);
+  const XrayCamera& cam = renderer.camera();
+  XrayFrame frame;
+  renderer.render(std::vector<DevicePose>{}, 0.0, &frame);
+  const AttenuationTable& mu = renderer.coefficients();
+  const double excess = spec.spine.bone_fraction * (mu.bone - mu.soft_tissue);
+  for (double s : {0.0125, 0.0125 - 0.03, 0.0125 + 0.06}) {  // middles of bodies
+    const Vec3 p = cam.project(Vec3(0, 0, s));
+    const int u = static_cast<int>(std::lround(p.x())), v = static_cast<int>(std::lround(p.y()));
+    const Vec3 d = cam.ray(u, v);
+    const Vec3 n = d.cross(Vec3::UnitZ());
+    const double off = std::abs(cam.source.dot(n)) / n.norm();  // the ray's distance from the axis
+    const double R = spec.spine.radius;
+    EXPECT_NEAR(frame.attenuation[v * cam.width + u], excess * 2 * std::sqrt(R * R - off * off) / n.norm(),
+                1e-5)
+        << "body at " << s;
+  }
+  for (double s : {0.0275, 0.0275 - 0.03}) {  // middles of discs
+    const Vec3 p = cam.project(Vec3(0, 0, s));
+    EXPECT_EQ(frame.attenuation[std::lround(p.y()) * cam.width + std::lround(p.x())], 0.0f)
+        << "disc at " << s;
+  }
+}
+
 TEST(Xray, LaoAndCranialTurnTheBeamAsCliniciansSayIt) {
   // LAO 90: the detector on the patient's left, the beam along +x; cranial
   // 30 from AP: the beam tilted up towards the head.

@@ -16,6 +16,7 @@ struct AttenuationTable {
   std::vector<double> device_material;  // [1/m] per xrayMaterials() entry
   double soft_tissue{0.0};              // [1/m] ICRP soft tissue (the body's background)
   double blood{0.0};                    // [1/m] ICRP blood
+  double bone{0.0};                     // [1/m] ICRP cortical bone
   double iodine_mass{0.0};              // [m^2/kg] iodine (contrast: times its concentration)
 };
 

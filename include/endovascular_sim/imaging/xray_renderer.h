@@ -1,7 +1,7 @@
 // Virtual fluoroscopy: the projection of a scene on the C-arm's detector
 // with Beer-Lambert attenuation along each ray,
 //   A(pixel) = integral of mu along the ray = sum_k mu_k L_k,
-// of the soft tissue of the body (an elliptic cylinder), the iodine in the
+// of the soft tissue of the body (an elliptic cylinder) and its spine, the iodine in the
 // vessels that hold contrast (VesselProjection) and the devices (each beam
 // element a straight tube of its section's material, marker bands in
 // theirs). The detector then shows I / I0 = exp(-A) (imaging/detector.h).
@@ -42,7 +42,8 @@ struct XrayRenderStats {
 
 class XrayRenderer {
  public:
-  /// The scene's X-ray system (its `xray:` section, or the defaults).
+  /// The scene's X-ray system (its `xray:` section, or the defaults); the
+  /// model must outlive the renderer.
   XrayRenderer(const SceneModel& model, const XraySpec& spec);
 
   /// Moves the C-arm (throws std::invalid_argument naming what is out of
@@ -86,7 +87,8 @@ class XrayRenderer {
   XrayCamera camera_;
   Vec3 default_isocenter_{Vec3::Zero()};
   ContrastAgent contrast_;
-  std::vector<float> body_;  // per pixel, cached per camera
+  std::vector<float> body_;   // per pixel, cached per camera
+  std::vector<float> bones_;  // the spine, per pixel, cached per camera (empty: none)
   VesselProjection vessels_;
   bool vessels_traced_{false};
   XrayRenderStats stats_;

@@ -58,6 +58,7 @@ AttenuationTable attenuationAt(double energy_kev) {
   }
   t.soft_tissue = nistCompound("Tissue, Soft (ICRP)", energy_kev);
   t.blood = nistCompound("Blood (ICRP)", energy_kev);
+  t.bone = nistCompound("Bone, Cortical (ICRP)", energy_kev);
   t.iodine_mass = elementMassAttenuation(53, energy_kev);
   return t;
 }

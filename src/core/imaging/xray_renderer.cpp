@@ -71,6 +71,41 @@ void XrayRenderer::prepareCamera() {
       }
       body_[static_cast<size_t>(v) * w + u] = static_cast<float>(mu_.soft_tissue * chord / (s * s));
     }
+  bones_.clear();
+  if (spec_.spine.present) {
+    // Vertebral bodies stacked along the superior axis over the field of
+    // view: bone replacing soft tissue in `bone_fraction` of their volume.
+    const SpineSpec& sp = spec_.spine;
+    const double mu = sp.bone_fraction * (mu_.bone - mu_.soft_tissue);
+    const double pitch = sp.vertebra + sp.disc;
+    const double reach = 0.6;  // [m] along the axis either side of `center`
+    bones_.assign(static_cast<size_t>(w) * h, 0.0f);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        const Vec3 d = camera_.ray(u, v);
+        const RayInterval in =
+            rayInCylinder(camera_.source, d, sp.center, superior, sp.radius, -reach, reach);
+        if (in.empty()) continue;
+        // The column's stretch of this ray, cut into bodies and discs.
+        double s0 = (camera_.source + in.t0 * d - sp.center).dot(superior);
+        double s1 = (camera_.source + in.t1 * d - sp.center).dot(superior);
+        if (s0 > s1) std::swap(s0, s1);
+        const double per_s = in.length() / std::max(s1 - s0, 1e-12);
+        double bone = 0.0;
+        for (double k = std::floor(s0 / pitch); k * pitch < s1; k += 1.0) {
+          const double lo = std::max(s0, k * pitch), hi = std::min(s1, k * pitch + sp.vertebra);
+          if (hi > lo) bone += hi - lo;
+        }
+        // A ray along the axis (s0 == s1) lies in one body or disc.
+        if (s1 - s0 < 1e-12) {
+          const double f = s0 / pitch - std::floor(s0 / pitch);
+          bone = f * pitch < sp.vertebra ? in.length() : 0.0;
+          bones_[static_cast<size_t>(v) * w + u] = static_cast<float>(mu * bone);
+          continue;
+        }
+        bones_[static_cast<size_t>(v) * w + u] = static_cast<float>(mu * bone * per_s);
+      }
+  }
   vessels_ = VesselProjection();
   vessels_traced_ = false;
   stats_.body_ms = msSince(start);
@@ -149,6 +184,7 @@ void XrayRenderer::render(const std::vector<DevicePose>& devices, double time, X
   frame->height = h;
   frame->time = time;
   frame->attenuation = body_;
+  for (size_t p = 0; p < bones_.size(); ++p) frame->attenuation[p] += bones_[p];
   frame->contrast.assign(static_cast<size_t>(w) * h, 0.0f);
 
   if (model_->vessels && model_->centerline && contrast_.active(time)) {

@@ -52,6 +52,13 @@ std::string validateXray(const XraySpec& x) {
   if (!(x.photons >= 0.0 && x.photons <= 1e9))
     return outside("photons", x.photons, "[0, 1e9] (0: no noise)");
   if (!(x.blur >= 0.0 && x.blur <= 20.0)) return outside("blur", x.blur, "[0, 20] px");
+  const SpineSpec& sp = x.spine;
+  if (sp.present && (!sp.center.allFinite() || !(sp.radius > 0.0 && sp.radius <= 0.1) ||
+                     !(sp.vertebra > 0.0 && sp.vertebra <= 0.1) ||
+                     !(sp.disc >= 0.0 && sp.disc <= 0.05) ||
+                     !(sp.bone_fraction > 0.0 && sp.bone_fraction <= 1.0)))
+    return "spine: radius and vertebra must lie in (0, 0.1] m, disc in [0, 0.05] m, "
+           "bone_fraction in (0, 1]";
   if (!(x.supersampling >= 1 && x.supersampling <= 8))
     return outside("supersampling", x.supersampling, "[1, 8]");
   return "";
@@ -63,7 +70,7 @@ XraySpec readXray(const YamlReader& r, const YAML::Node& n) {
          {"lao_deg", "cranial_deg", "source_detector_distance", "source_isocenter_distance",
           "detector_size", "pixels", "isocenter", "left", "anterior", "energy_kev", "frame_rate",
           "iodine_concentration", "contrast_washout", "body_width", "body_depth", "photons", "blur",
-          "seed", "supersampling"});
+          "seed", "supersampling", "spine"});
   XraySpec x;
   x.present = true;
   CArmSpec& c = x.c_arm;
@@ -95,6 +102,17 @@ XraySpec readXray(const YamlReader& r, const YAML::Node& n) {
     x.seed = static_cast<unsigned>(seed);
   }
   if (n["supersampling"]) x.supersampling = r.integer(n["supersampling"], "xray.supersampling");
+  if (n["spine"]) {
+    const YAML::Node sp = n["spine"];
+    if (!sp.IsMap()) r.fail(sp, "xray.spine", "must be a map {center, radius, ...}");
+    r.keys(sp, "xray.spine", {"center", "radius", "vertebra", "disc", "bone_fraction"});
+    x.spine.present = true;
+    x.spine.center = r.vector3(r.required(sp, "center", "xray.spine.center"), "xray.spine.center");
+    x.spine.radius = r.number(sp, "radius", "xray.spine.", x.spine.radius);
+    x.spine.vertebra = r.number(sp, "vertebra", "xray.spine.", x.spine.vertebra);
+    x.spine.disc = r.number(sp, "disc", "xray.spine.", x.spine.disc);
+    x.spine.bone_fraction = r.number(sp, "bone_fraction", "xray.spine.", x.spine.bone_fraction);
+  }
   const std::string why = validateXray(x);
   if (!why.empty()) r.fail(n, "xray", why);
   return x;
