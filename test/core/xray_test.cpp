@@ -204,8 +204,8 @@ TEST(Xray, TheSpineShowsItsBodiesAndNotItsDiscs) {
     const Vec3 n = d.cross(Vec3::UnitZ());
     const double off = std::abs(cam.source.dot(n)) / n.norm();  // the ray's distance from the axis
     const double R = spec.spine.radius;
-    EXPECT_NEAR(frame.attenuation[v * cam.width + u], excess * 2 * std::sqrt(R * R - off * off) / n.norm(),
-                1e-5)
+    EXPECT_NEAR(frame.attenuation[v * cam.width + u],
+                excess * 2 * std::sqrt(R * R - off * off) / n.norm(), 1e-5)
         << "body at " << s;
   }
   for (double s : {0.0275, 0.0275 - 0.03}) {  // middles of discs

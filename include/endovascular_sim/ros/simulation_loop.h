@@ -134,11 +134,11 @@ class SimulationLoop {
   LoopTiming timing_;
   std::string last_error_;
   std::vector<std::string> notices_;
-  int rejections_{0};                 // of the current state (mutex_)
-  std::unique_ptr<Autopilot> pilot_;  // the running navigation (mutex_)
-  NavigationStatus navigation_;       // (status_mutex_)
-  double wrench_cutoff_hz_{0.0};                          // (mutex_)
-  std::vector<WrenchLowPass> wrench_filters_;             // per device (mutex_)
+  int rejections_{0};                                      // of the current state (mutex_)
+  std::unique_ptr<Autopilot> pilot_;                       // the running navigation (mutex_)
+  NavigationStatus navigation_;                            // (status_mutex_)
+  double wrench_cutoff_hz_{0.0};                           // (mutex_)
+  std::vector<WrenchLowPass> wrench_filters_;              // per device (mutex_)
   std::vector<std::vector<WrenchSample>> wrench_samples_;  // (status_mutex_)
 
   mutable std::atomic<int> waiters_{0};

@@ -21,7 +21,7 @@ struct DevicePlacementSpec {
   Introducer introducer;
   double inserted_length{0.0};  // at start [m]
   double rotation{0.0};         // at start [rad]
-  DriveSpec drive;  // `drive: {max_force, max_torque, valve_friction, valve_torque}`
+  DriveSpec drive;              // `drive: {max_force, max_torque, valve_friction, valve_torque}`
   std::string inside;           // effect 'coaxial': the outer device's name ("" none)
   int outer{-1};                // its index; the introducer is the outer device's
   /// The scene's limit on this device's element length [m] (0: none), and

@@ -35,11 +35,11 @@ std::string validateCArm(const CArmSpec& c);
 /// between them) through `center`.
 struct SpineSpec {
   bool present{false};
-  Vec3 center{Vec3::Zero()};    // [m] a point on its axis, in the scene frame
-  double radius{0.02};          // [m] of a vertebral body
-  double vertebra{0.025};       // [m] height of a body
-  double disc{0.005};           // [m] height of a disc between two
-  double bone_fraction{0.3};    // of a body's volume that is cortical bone (the rest marrow)
+  Vec3 center{Vec3::Zero()};  // [m] a point on its axis, in the scene frame
+  double radius{0.02};        // [m] of a vertebral body
+  double vertebra{0.025};     // [m] height of a body
+  double disc{0.005};         // [m] height of a disc between two
+  double bone_fraction{0.3};  // of a body's volume that is cortical bone (the rest marrow)
 };
 
 struct XraySpec {
@@ -54,7 +54,7 @@ struct XraySpec {
   double photons{0.0};                 // quanta per pixel behind the body (Poisson noise); 0 off
   double blur{0.0};                    // [px] Gaussian sigma of the detector's blur; 0 off
   unsigned seed{1};                    // of the noise
-  SpineSpec spine;                      // none unless given
+  SpineSpec spine;                     // none unless given
   int supersampling{2};  // rays per pixel along each side through the devices, 1..8: the
                          // detector integrates over a pixel, and a wire is about a pixel wide
                          // (the body and the lumen, smooth at that scale: one ray)

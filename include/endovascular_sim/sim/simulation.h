@@ -68,7 +68,7 @@ struct SceneModel {
   std::vector<std::vector<SamplePoint>> samples;  // contact sample points per device
   std::vector<DeviceModel> devices;
   std::vector<Introducer> introducers;
-  std::vector<DriveSpec> drive_specs;        // per device (scene key devices[].drive)
+  std::vector<DriveSpec> drive_specs;           // per device (scene key devices[].drive)
   std::vector<double> initial_inserted_length;  // [m]
   std::vector<double> initial_rotation;         // [rad]
   std::vector<int> outer_of;  // effect 'coaxial': per device its outer device (-1); else empty

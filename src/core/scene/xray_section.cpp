@@ -53,10 +53,10 @@ std::string validateXray(const XraySpec& x) {
     return outside("photons", x.photons, "[0, 1e9] (0: no noise)");
   if (!(x.blur >= 0.0 && x.blur <= 20.0)) return outside("blur", x.blur, "[0, 20] px");
   const SpineSpec& sp = x.spine;
-  if (sp.present && (!sp.center.allFinite() || !(sp.radius > 0.0 && sp.radius <= 0.1) ||
-                     !(sp.vertebra > 0.0 && sp.vertebra <= 0.1) ||
-                     !(sp.disc >= 0.0 && sp.disc <= 0.05) ||
-                     !(sp.bone_fraction > 0.0 && sp.bone_fraction <= 1.0)))
+  if (sp.present &&
+      (!sp.center.allFinite() || !(sp.radius > 0.0 && sp.radius <= 0.1) ||
+       !(sp.vertebra > 0.0 && sp.vertebra <= 0.1) || !(sp.disc >= 0.0 && sp.disc <= 0.05) ||
+       !(sp.bone_fraction > 0.0 && sp.bone_fraction <= 1.0)))
     return "spine: radius and vertebra must lie in (0, 0.1] m, disc in [0, 0.05] m, "
            "bone_fraction in (0, 1]";
   if (!(x.supersampling >= 1 && x.supersampling <= 8))
@@ -67,10 +67,26 @@ std::string validateXray(const XraySpec& x) {
 XraySpec readXray(const YamlReader& r, const YAML::Node& n) {
   if (!n.IsMap()) r.fail(n, "xray", "must be a map (the C-arm, the beam, the contrast)");
   r.keys(n, "xray",
-         {"lao_deg", "cranial_deg", "source_detector_distance", "source_isocenter_distance",
-          "detector_size", "pixels", "isocenter", "left", "anterior", "energy_kev", "frame_rate",
-          "iodine_concentration", "contrast_washout", "body_width", "body_depth", "photons", "blur",
-          "seed", "supersampling", "spine"});
+         {"lao_deg",
+          "cranial_deg",
+          "source_detector_distance",
+          "source_isocenter_distance",
+          "detector_size",
+          "pixels",
+          "isocenter",
+          "left",
+          "anterior",
+          "energy_kev",
+          "frame_rate",
+          "iodine_concentration",
+          "contrast_washout",
+          "body_width",
+          "body_depth",
+          "photons",
+          "blur",
+          "seed",
+          "supersampling",
+          "spine"});
   XraySpec x;
   x.present = true;
   CArmSpec& c = x.c_arm;
