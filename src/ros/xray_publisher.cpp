@@ -71,13 +71,7 @@ void XrayPublisher::showSettings() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!renderer_) return;
-    const XraySpec& s = renderer_->spec();
-    config.lao_deg = s.c_arm.lao * 180.0 / M_PI;
-    config.cranial_deg = s.c_arm.cranial * 180.0 / M_PI;
-    config.frame_rate = s.frame_rate;
-    config.photons = s.photons;
-    config.blur = s.blur;
-    config.roadmap = roadmap_;
+    config = settingsInForce();
   }
   reconfigure_->updateConfig(config);
 }
@@ -254,13 +248,19 @@ void XrayPublisher::onReconfigure(endovascular_sim::XrayConfig& config, uint32_t
   }
   ROS_WARN_STREAM("xray: refused: " << refused << "; the settings in force are kept");
   // The server publishes what the callback leaves in config: the settings in force.
-  const XraySpec& kept = renderer_->spec();
-  config.lao_deg = kept.c_arm.lao * 180.0 / M_PI;
-  config.cranial_deg = kept.c_arm.cranial * 180.0 / M_PI;
-  config.frame_rate = kept.frame_rate;
-  config.photons = kept.photons;
-  config.blur = kept.blur;
+  config = settingsInForce();
+}
+
+endovascular_sim::XrayConfig XrayPublisher::settingsInForce() const {
+  endovascular_sim::XrayConfig config;
+  const XraySpec& s = renderer_->spec();
+  config.lao_deg = s.c_arm.lao * 180.0 / M_PI;
+  config.cranial_deg = s.c_arm.cranial * 180.0 / M_PI;
+  config.frame_rate = s.frame_rate;
+  config.photons = s.photons;
+  config.blur = s.blur;
   config.roadmap = roadmap_;
+  return config;
 }
 
 }  // namespace evsim

@@ -36,17 +36,22 @@ XraySpec specOf(int pixels) {
   return spec;
 }
 
-void BM_XrayLiveFrame(benchmark::State& st) {
-  const Carotid& c = carotidDeepIn();
-  XrayRenderer renderer(c.model, specOf(static_cast<int>(st.range(0))));
+/// Frames as the node makes them: the line integrals, then the display.
+void renderFrames(benchmark::State& st, XrayRenderer* renderer, const SimData& data) {
   XrayFrame frame;
   long index = 0;
   for (auto _ : st) {
-    renderer.render(c.data, &frame);
-    const auto gray = detectorGray(frame, renderer.spec(), renderer.referenceAttenuation(), index++,
-                                   nullptr, &renderer.bodyAttenuation());
+    renderer->render(data, &frame);
+    const auto gray = detectorGray(frame, renderer->spec(), renderer->referenceAttenuation(),
+                                   index++, nullptr, &renderer->bodyAttenuation());
     benchmark::DoNotOptimize(gray.data());
   }
+}
+
+void BM_XrayLiveFrame(benchmark::State& st) {
+  const Carotid& c = carotidDeepIn();
+  XrayRenderer renderer(c.model, specOf(static_cast<int>(st.range(0))));
+  renderFrames(st, &renderer, c.data);
 }
 BENCHMARK(BM_XrayLiveFrame)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond);
 
@@ -54,15 +59,9 @@ void BM_XrayAngiogramFrame(benchmark::State& st) {
   const Carotid& c = carotidDeepIn();
   XrayRenderer renderer(c.model, specOf(static_cast<int>(st.range(0))));
   renderer.injectContrast(c.model.atlas->pointAt(0, 0.0), c.data.time, 10.0);  // the whole tree
-  XrayFrame frame;
-  renderer.render(c.data, &frame);  // the lumen traced for this pose
-  long index = 0;
-  for (auto _ : st) {
-    renderer.render(c.data, &frame);
-    const auto gray = detectorGray(frame, renderer.spec(), renderer.referenceAttenuation(), index++,
-                                   nullptr, &renderer.bodyAttenuation());
-    benchmark::DoNotOptimize(gray.data());
-  }
+  XrayFrame traced;
+  renderer.render(c.data, &traced);  // the lumen traced for this pose
+  renderFrames(st, &renderer, c.data);
 }
 BENCHMARK(BM_XrayAngiogramFrame)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond);
 

@@ -22,18 +22,12 @@ import yaml
 from endovascular_sim.srv import InjectContrast, LoadScene, SetCArm
 from sensor_msgs.msg import CameraInfo, Image
 
+from ros_geometry import quaternion_rotate as rotate
+
 CONFIG = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
                       'config')
 # The documented defaults of a scene without `xray:` (docs/sensors.md).
 SID, DETECTOR, PIXELS = 1.2, 0.3, 512
-
-
-def rotate(q, v):
-    """Rotates v by the unit quaternion q = (x, y, z, w)."""
-    x, y, z, w = q
-    ux = (y * v[2] - z * v[1], z * v[0] - x * v[2], x * v[1] - y * v[0])
-    uux = (y * ux[2] - z * ux[1], z * ux[0] - x * ux[2], x * ux[1] - y * ux[0])
-    return tuple(v[i] + 2 * w * ux[i] + 2 * uux[i] for i in range(3))
 
 
 class XrayTest(unittest.TestCase):

@@ -48,6 +48,8 @@ class XrayPublisher {
                 endovascular_sim::InjectContrast::Response& res);
   void onReconfigure(endovascular_sim::XrayConfig& config, uint32_t level);
   void showSettings();
+  /// The reconfigure values of the renderer's settings (mutex_ held, renderer_ set).
+  endovascular_sim::XrayConfig settingsInForce() const;
 
   ros::NodeHandle nh_;
   const SimulationLoop* loop_;
