@@ -187,13 +187,42 @@ TEST(Targets, ReachedAfterTheDwellAndABreakRestartsIt) {
   EXPECT_LT(progress[0].since, 0.0);
   const double back = t + 0.01;
   std::vector<std::string> notices;
-  for (t = back; t < back + 0.6 && !progress[0].reached; t += 0.01)
-    notices = update(0.03, t);
+  for (t = back; t < back + 0.6 && !progress[0].reached; t += 0.01) notices = update(0.03, t);
   ASSERT_TRUE(progress[0].reached);
   EXPECT_NEAR(progress[0].reached_time - back, 0.5, 0.011);
   ASSERT_EQ(notices.size(), 1u);
   EXPECT_NE(notices[0].find("left_common_carotid"), std::string::npos);
   EXPECT_NEAR(progress[0].best_depth, 0.03, 1e-12);
+}
+
+// A vessel shorter than twice the target's depth holds no tip that deep (it
+// is in a branch by then): half the vessel's length is enough there.
+TEST(Targets, AShortVesselIsHeldAtHalfItsLength) {
+  const VesselAtlas atlas(carotid());
+  const int trunk = atlas.find("brachiocephalic_trunk");
+  ASSERT_GE(trunk, 0);
+  const double length = atlas.vessels()[trunk].length;  // 45 mm
+  Target target{TargetSpec{}, trunk, -1};
+  target.spec.vessel = "brachiocephalic_trunk";
+  target.spec.depth = 0.1;  // [m] more than twice its length
+  EXPECT_NEAR(requiredDepth(atlas.vessels()[trunk], 0.1), 0.5 * length, 1e-15);
+  EXPECT_EQ(requiredDepth(atlas.vessels()[trunk], 0.02), 0.02);
+  std::vector<DeviceModel> models(1);
+  const std::vector<DeviceState> devices(1);
+  auto heldFor = [&](double depth) {  // [s] until reached, within 2 s (-1: never)
+    std::vector<TargetProgress> progress;
+    VesselLocation tip;
+    tip.vessel = trunk;
+    tip.depth = depth;
+    tip.inside = true;
+    for (double t = 0.0; t < 2.0; t += 0.01) {
+      updateTargets({target}, {tip}, models, devices, atlas, t, &progress);
+      if (progress[0].reached) return t;
+    }
+    return -1.0;
+  };
+  EXPECT_LT(heldFor(0.5 * length - 0.001), 0.0);
+  EXPECT_NEAR(heldFor(0.5 * length + 0.001), 0.5, 0.011);
 }
 
 }  // namespace

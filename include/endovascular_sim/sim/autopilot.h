@@ -31,7 +31,7 @@ struct AutopilotOptions {
   double aim_tolerance{0.45};      // [rad] aim error below which it advances near an ostium
   double approach_distance{0.02};  // [m] beyond the parent's radius: aiming starts there
   double follow_lag{0.03};         // [m] the outer device's tip stays this far behind the inner's
-  double depth{0.02};              // [m] inside the target: reached (with dwell)
+  double depth{0.02};              // [m] inside the target: reached (with dwell; requiredDepth)
   double dwell{0.5};               // [s]
   int max_retries{12};
   double stuck_time{3.0};  // [s] without progress along the path: pull back, retry
@@ -137,8 +137,9 @@ class Autopilot {
 
   AutopilotOptions options_;
   int target_{-1};
-  int lead_{-1};    // device whose tip must reach the target
-  int follow_{-1};  // its outer device (-1: none)
+  double goal_depth_{0.0};  // [m] requiredDepth of the target for options_.depth
+  int lead_{-1};            // device whose tip must reach the target
+  int follow_{-1};          // its outer device (-1: none)
   int entry_vessel_{-1};
   AutopilotPhase phase_{AutopilotPhase::kAdvance};
   AutopilotReport report_;

@@ -102,8 +102,9 @@ Autopilot::Autopilot(const SceneModel& model, const SimData& data, const std::st
   current_vessel_ = entry_vessel_;
   // From the start, not from the first control tick: a client's first
   // feedback may come before the first step.
-  report_.remaining_path = pathLeft(atlas, atlas.path(entry_vessel_, target_),
-                                    data.tips.at(lead_).depth, options_.depth);
+  goal_depth_ = requiredDepth(atlas.vessels()[target_], options_.depth);
+  report_.remaining_path =
+      pathLeft(atlas, atlas.path(entry_vessel_, target_), data.tips.at(lead_).depth, goal_depth_);
 }
 
 std::string Autopilot::setPhase(AutopilotPhase phase, const std::string& why, double t) {
@@ -269,7 +270,7 @@ std::string Autopilot::control(const SceneModel& model, SimData* data) {
   const std::vector<int> path = atlas.path(at.vessel, target_);
   const std::vector<int> plan = atlas.path(entry_vessel_, target_);
 
-  const double remaining = pathLeft(atlas, path, at.depth, options_.depth);
+  const double remaining = pathLeft(atlas, path, at.depth, goal_depth_);
   report_.remaining_path = remaining;
   report_.time = t - start_time_;
   if (remaining < best_remaining_ - 0.002) {
@@ -316,9 +317,11 @@ std::string Autopilot::steerLead(const SceneModel& model, SimData* data,
   }
 
   const bool in_target = at.vessel == target_ && at.inside;
-  if (in_target && at.depth >= options_.depth) {
-    // A few millimetres deeper than needed, then hold still for the dwell.
-    drive(model, data, at.depth < options_.depth + 0.005 ? 0.5 * options_.advance_speed : 0.0, 0.0);
+  if (in_target && at.depth >= goal_depth_) {
+    // A few millimetres deeper than needed (a quarter of a short vessel's
+    // length), then hold still for the dwell.
+    const double margin = std::min(0.005, 0.25 * atlas.vessels()[target_].length);
+    drive(model, data, at.depth < goal_depth_ + margin ? 0.5 * options_.advance_speed : 0.0, 0.0);
     const std::string d =
         setPhase(AutopilotPhase::kDwell, "in " + atlas.vessels()[target_].name, t);
     return line.empty() ? d : line + "\n" + d;

@@ -318,7 +318,7 @@ std::string Autopilot::followStage(const PairView& v) {
   // The catheter over the wire into the branch, its tip 2 cm behind the wire's.
   const VesselLocation in_branch = atlas.locateIn(branch_, v.cath.position.back());
   const bool followed = v.cath_at.vessel == branch_ && in_branch.depth > v.host.radius + 0.01;
-  if (v.wire_at.vessel == target_ && v.wire_at.depth >= options_.depth) {
+  if (v.wire_at.vessel == target_ && v.wire_at.depth >= goal_depth_) {
     stage_ = PairStage::kOver;
     best_remaining_ = 1e9;
     return "t=" + std::to_string(v.t) + " s  the wire is in the target";

@@ -8,14 +8,16 @@ namespace evsim {
 namespace {
 
 /// A vessel target: the first device (of those it accepts) whose tip is
-/// `depth` inside the vessel now (-1: none); best_depth follows the tips.
-int deepTip(const Target& target, const std::vector<VesselLocation>& tips, TargetProgress* p) {
+/// deep enough inside the vessel now (requiredDepth) (-1: none); best_depth follows the tips.
+int deepTip(const Target& target, const std::vector<VesselLocation>& tips, const VesselAtlas& atlas,
+            TargetProgress* p) {
+  const double required = requiredDepth(atlas.vessels()[target.vessel], target.spec.depth);
   int deep = -1;
   for (size_t i = 0; i < tips.size(); ++i) {
     if (target.device >= 0 && target.device != static_cast<int>(i)) continue;
     if (tips[i].vessel != target.vessel || !tips[i].inside) continue;
     p->best_depth = std::max(p->best_depth, tips[i].depth);
-    if (tips[i].depth >= target.spec.depth && deep < 0) deep = static_cast<int>(i);
+    if (tips[i].depth >= required && deep < 0) deep = static_cast<int>(i);
   }
   return deep;
 }
@@ -37,6 +39,10 @@ double coilInside(const Target& target, const DeviceModel& m, const DeviceState&
 
 }  // namespace
 
+double requiredDepth(const NamedVessel& vessel, double depth) {
+  return std::min(depth, 0.5 * vessel.length);
+}
+
 std::vector<std::string> updateTargets(const std::vector<Target>& targets,
                                        const std::vector<VesselLocation>& tips,
                                        const std::vector<DeviceModel>& models,
@@ -54,7 +60,7 @@ std::vector<std::string> updateTargets(const std::vector<Target>& targets,
       p.best_inside = std::max(p.best_inside, share);
       if (share >= 1.0) by = target.device;
     } else {
-      by = deepTip(target, tips, &p);
+      by = deepTip(target, tips, atlas, &p);
     }
     if (by < 0) {
       p.since = -1.0;
