@@ -43,11 +43,13 @@ struct FreeMotionTimes {
 };
 
 /// Computes ws->dq for the state's inserted length and rotation angle
-/// (already advanced by the drive). Returns false when A is not positive
-/// definite (the state is then left untouched by the caller).
+/// (already advanced by the drive). With `sheath_hold`, the sheath holds
+/// the element leaving it (sheath_support.h); a device inside another is
+/// held there by its outer device's lumen instead. Returns false when A is
+/// not positive definite (the state is then left untouched by the caller).
 bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const Vec3& gravity,
                        double dt, const DeviceState& state, DeviceWorkspace* ws,
-                       FreeMotionTimes* times = nullptr);
+                       FreeMotionTimes* times = nullptr, bool sheath_hold = true);
 
 /// Applies dq (all nodes) and sets velocities to dq / dt.
 void commitMotion(const VecX& dq, double dt, DeviceState* state);

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "endovascular_sim/mechanics/elasticity.h"
+#include "endovascular_sim/mechanics/sheath_support.h"
 #include "endovascular_sim/mechanics/so3.h"
 
 namespace evsim {
@@ -27,7 +28,7 @@ Mat6 nodeMass(const DeviceModel& model, const DeviceState& state, int node) {
 
 bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const Vec3& gravity,
                        double dt, const DeviceState& state, DeviceWorkspace* ws,
-                       FreeMotionTimes* times) {
+                       FreeMotionTimes* times, bool sheath_hold) {
   const auto t0 = Clock::now();
   const int n = model.num_nodes;
   int held = state.released ? -1 : lastHeldNode(model, state.inserted_length);
@@ -66,6 +67,12 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
   }
   if (nf > 0 && held >= 0)
     ws->rhs.head<6>() -= A.upper[held].transpose() * ws->dq.segment<6>(6 * held);
+  // The sheath's hold on the element leaving it (sheath_support.h).
+  const SheathHold hold = sheath_hold ? sheathHold(model, intro, state, held) : SheathHold{};
+  if (hold.node >= 0 && nf > 0) {
+    A.diag[hold.node] += hold.hessian;
+    ws->rhs.head<6>() -= hold.gradient;
+  }
   if (times) times->assembly_ms = msSince(t0);
 
   ws->first_free_node = first_free;

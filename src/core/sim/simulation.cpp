@@ -102,8 +102,11 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
                  i < data->stalls.size() ? data->stalls[i] : DriveStall{});
     if (model.effects.gravity) ++data->effect_calls.gravity;
     FreeMotionTimes t;
+    // The sheath holds a device leaving it; a device inside another, that
+    // device's lumen does.
+    const bool outermost = i >= model.outer_of.size() || model.outer_of[i] < 0;
     if (!computeFreeMotion(model.devices[i], model.introducers[i], model.gravity, dt, (*next)[i],
-                           &data->workspaces[i], &t)) {
+                           &data->workspaces[i], &t, outermost)) {
       data->last_error = "device '" + model.devices[i].name +
                          "': the system matrix is not positive definite or the solve diverged";
       return StepStatus::kSolverFailure;
