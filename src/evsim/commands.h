@@ -57,6 +57,9 @@ struct NavigationBenchOptions {
   std::vector<std::string> arch_scenes{"arch_to_left_subclavian", "arch_to_left_common_carotid",
                                        "arch_to_right_common_carotid", "arch_to_right_subclavian"};
   std::string network_scene{"network_navigation"};
+  // The same network with the catheter for the brachiocephalic trunk's side:
+  // the targets beyond the trunk are run there ("" none: all in network_scene).
+  std::string network_scene_trunk{"network_navigation_headhunter"};
   int network_targets{50};  // drawn from the network (0: the arch alone)
   int min_branchings{3};    // bifurcations passed from the access to a network target
   int max_branchings{6};

@@ -43,6 +43,9 @@ void addNavigationBench(CLI::App* bench, NavigationBenchOptions* o) {
       "navigation", "the autopilot on the arch's targets and on targets drawn in the network");
   nav->add_option("--arch-scenes", o->arch_scenes, "scenes whose targets are run")->delimiter(',');
   nav->add_option("--network-scene", o->network_scene, "the network scene targets are drawn in");
+  nav->add_option("--network-scene-trunk", o->network_scene_trunk,
+                  "the same network with the catheter for the brachiocephalic trunk: targets "
+                  "beyond the trunk run there (\"\": all in --network-scene)");
   nav->add_option("--network-targets", o->network_targets, "targets drawn (0: the arch alone)")
       ->check(CLI::Range(0, 10000));
   nav->add_option("--min-branchings", o->min_branchings, "bifurcations to a target, at least")

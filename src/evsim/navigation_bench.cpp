@@ -53,11 +53,21 @@ std::vector<Case> networkCases(const NavigationBenchOptions& o) {
   const double tip_radius = model.devices[device].node_radius.back();
   std::vector<Case> all;
   const auto& vessels = model.atlas->vessels();
+  const int trunk = model.atlas->find("brachiocephalic_trunk");
   for (size_t v = 0; v < vessels.size(); ++v) {
     const int n = branchingsAlong(*model.atlas, entry, static_cast<int>(v));
     if (n < o.min_branchings || n > o.max_branchings || vessels[v].radius <= 1.5 * tip_radius)
       continue;
-    all.push_back({"network", o.network_scene, vessels[v].name, "", n});
+    // As in the arch procedures, the catheter for the target's side: the
+    // Headhunter curve engages the brachiocephalic trunk, the 45 degree
+    // catheter does not.
+    const std::vector<int> path = model.atlas->path(entry, static_cast<int>(v));
+    const bool beyond_trunk =
+        trunk >= 0 && std::find(path.begin(), path.end(), trunk) != path.end();
+    all.push_back(
+        {"network",
+         beyond_trunk && !o.network_scene_trunk.empty() ? o.network_scene_trunk : o.network_scene,
+         vessels[v].name, "", n});
   }
   std::mt19937 random(o.seed);
   std::shuffle(all.begin(), all.end(), random);

@@ -31,8 +31,10 @@ struct AutopilotOptions {
   double aim_tolerance{0.45};      // [rad] aim error below which it advances near an ostium
   double approach_distance{0.02};  // [m] beyond the parent's radius: aiming starts there
   double follow_lag{0.03};         // [m] the outer device's tip stays this far behind the inner's
-  double depth{0.02};              // [m] inside the target: reached (with dwell; requiredDepth)
-  double dwell{0.5};               // [s]
+  double outer_fit{1.3};  // the outer device goes into a vessel at least this many of its radii
+                          // in radius (beyond, the inner device goes on alone)
+  double depth{0.02};     // [m] inside the target: reached (with dwell; requiredDepth)
+  double dwell{0.5};      // [s]
   int max_retries{12};
   double stuck_time{3.0};  // [s] without progress along the path: pull back, retry
   double timeout{90.0};    // [s] of simulated time

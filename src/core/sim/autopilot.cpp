@@ -132,7 +132,8 @@ void Autopilot::drive(const SceneModel& model, SimData* data, double insertion_s
   if (follow_ < 0) return;
   // The outer device keeps its tip follow_lag behind the inner one's, but
   // goes no deeper once its tip is in a vessel too narrow for it (less than
-  // twice its radius): the wire goes on alone, as beyond a guiding catheter.
+  // options_.outer_fit times its radius): the wire goes on alone, as beyond
+  // a guiding catheter.
   const DeviceModel& o = model.devices[follow_];
   DriveCommand outer;
   outer.mode = DriveCommand::Mode::kPosition;
@@ -145,7 +146,8 @@ void Autopilot::drive(const SceneModel& model, SimData* data, double insertion_s
         behind, std::min(data->devices[follow_].inserted_length, lead_inserted - kOuterMinLead));
   outer.insertion = std::clamp(behind, 0.0, o.length);
   const int outer_vessel = data->tips[follow_].vessel;
-  if (outer_vessel >= 0 && model.atlas->vessels()[outer_vessel].radius < 2.0 * o.node_radius.back())
+  if (outer_vessel >= 0 &&
+      model.atlas->vessels()[outer_vessel].radius < options_.outer_fit * o.node_radius.back())
     outer.insertion = std::min(outer.insertion, data->devices[follow_].inserted_length);
   outer.rotation = data->devices[follow_].rotation_angle;
   data->commands[follow_] = outer;

@@ -77,10 +77,10 @@ bool Autopilot::choosePairBranch(const SceneModel& model, const SimData& data,
         if (branch != branch_) travel_ = atlas.vessels()[branch].origin_depth >= from ? 1.0 : -1.0;
       }
     // The catheter is in the target, no turn is left, or the next branch is
-    // too narrow for the catheter (less than twice its radius): the wire
+    // too narrow for the catheter (less than outer_fit times its radius): the wire
     // goes on alone, the catheter trailing where it fits.
-    if (branch < 0 ||
-        atlas.vessels()[branch].radius < 2.0 * model.devices[follow_].node_radius.back())
+    if (branch < 0 || atlas.vessels()[branch].radius <
+                          options_.outer_fit * model.devices[follow_].node_radius.back())
       return false;
     if (branch != branch_ && stage_ != PairStage::kLead) stage_ = PairStage::kLead;
     host_ = host;
@@ -115,7 +115,12 @@ std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
   else if (atlas.vessels()[v.cath_at.vessel].parent == host_ &&
            std::abs(atlas.vessels()[v.cath_at.vessel].origin_depth - v.branch.origin_depth) < 1e-6)
     v.cath_past = v.cath_at.depth;
-  v.wire_off_plan = !v.onPlan(v.wire_at.vessel);
+  // Off the plan: in another vessel and in no lumen of the plan's (past a
+  // bifurcation both daughters' lumens hold the first millimetres).
+  v.wire_off_plan =
+      !v.onPlan(v.wire_at.vessel) && std::none_of(v.plan.begin(), v.plan.end(), [&](int vessel) {
+        return atlas.locateIn(vessel, v.wire.position.back()).inside;
+      });
   v.out = (atlas.pointAt(branch_, std::min(v.branch.length, 1.5 * v.host.radius + 0.005)) -
            atlas.pointAt(branch_, 0.0))
               .normalized();
@@ -202,7 +207,12 @@ constexpr auto kVel = DriveCommand::Mode::kVelocity;
 
 std::string Autopilot::leadStage(const PairView& v) {
   const VesselAtlas& atlas = *v.model.atlas;
-  if (!v.wire_off_plan && v.at(v.wire_at.vessel) >= v.at(branch_)) {
+  // The wire in the branch, 1 cm deep (or half the branch) before the
+  // catheter follows: at the ostium of a bifurcation's branch its tip,
+  // pushed on by the catheter, slips into the sibling.
+  const double held_depth = std::min(kTerminalEngageDepth, 0.5 * v.branch.length);
+  if (!v.wire_off_plan && (v.at(v.wire_at.vessel) > v.at(branch_) ||
+                           (v.wire_at.vessel == branch_ && v.wire_at.depth >= held_depth))) {
     progress_time_ = v.t;
     return stageTo(PairStage::kFollow, "the wire is in " + v.branch.name + "; catheter follows",
                    v.t);
@@ -230,7 +240,10 @@ std::string Autopilot::leadStage(const PairView& v) {
   const double cath_turn = cath_aim.wanted && !cath_aim.toward_path
                                ? tipBendAngle(v.model, *v.data, follow_, cath_aim.direction)
                                : 0.0;
-  command(v.model, v.data, lead_, kVel, options_.advance_speed, options_.rotation_gain * turn);
+  // Near a bifurcation's branch of the path: turn first, then advance.
+  const bool hold = steer && aim.toward_path && std::abs(turn) > options_.aim_tolerance;
+  command(v.model, v.data, lead_, kVel, hold ? 0.0 : options_.advance_speed,
+          options_.rotation_gain * turn);
   command(v.model, v.data, follow_, kPos, v.wire.inserted_length - 0.01,
           v.cath.rotation_angle + options_.rotation_gain * options_.control_period * cath_turn);
   return stageTo(PairStage::kLead, "wire leads, catheter follows toward " + v.branch.name, v.t);
@@ -340,7 +353,10 @@ std::string Autopilot::followStage(const PairView& v) {
                   : 0.5 * options_.advance_speed;
   }
   command(v.model, v.data, lead_, kVel, advance, options_.rotation_gain * turn);
-  command(v.model, v.data, follow_, kPos, v.wire.inserted_length - 0.02, v.cath.rotation_angle);
+  // (never drawn back to the lag: the wire's support would move, and its
+  // tip swing into the sibling)
+  command(v.model, v.data, follow_, kPos,
+          std::max(v.cath.inserted_length, v.wire.inserted_length - 0.02), v.cath.rotation_angle);
   if (v.wire_off_plan) return stageTo(PairStage::kLead, "", v.t);
   return "";
 }
