@@ -2,16 +2,9 @@
 
 #include <algorithm>
 
+#include "endovascular_sim/mechanics/so3.h"
+
 namespace evsim {
-namespace {
-
-Mat3 cross(const Vec3& v) {
-  Mat3 m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
-
-}  // namespace
 
 SheathHold sheathHold(const DeviceModel& model, const Introducer& intro, const DeviceState& state,
                       int held) {
@@ -36,7 +29,7 @@ SheathHold sheathHold(const DeviceModel& model, const Introducer& intro, const D
   const Vec3 g0 = h01 * across + h11 * L * tilt;
   const Vec3 g1 = d01 / L * across + d11 * tilt;
   Eigen::Matrix<double, 3, 6> J0, J1;
-  const Mat3 Pt = -P * cross(t);  // d(P t) / d(omega): t turns by omega x t
+  const Mat3 Pt = -P * hat(t);  // d(P t) / d(omega): t turns by omega x t
   J0 << h01 * P, h11 * L * Pt;
   J1 << d01 / L * P, d11 * Pt;
   h.node = j;
