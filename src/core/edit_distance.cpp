@@ -1,3 +1,5 @@
+// Edit distance between names, for "did you mean" in error messages. Declared
+// and documented in endovascular_sim/core/edit_distance.h.
 #include "endovascular_sim/core/edit_distance.h"
 
 #include <algorithm>

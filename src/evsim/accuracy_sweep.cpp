@@ -1,3 +1,5 @@
+// `evsim bench accuracy`: what each accuracy knob costs in time. Declared and
+// documented in accuracy_sweep.h.
 #include "accuracy_sweep.h"
 
 #include <algorithm>

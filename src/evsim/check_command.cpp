@@ -2,8 +2,10 @@
 // without running them, each as its loader does (the scene with its
 // devices, vessels, access points and targets built), and prints a line per
 // file: `FILE: ok (...)`, or the error naming the file, the line and the
-// key. Every file is checked, whatever the others gave; exit 0 when all are
-// valid, 2 otherwise.
+// key (`file:line:column: key: what`); every problem at once where the
+// loader collects them (a scene against its schema, a device's sections,
+// an SWC file's lines), a line each. Every file is checked, whatever the others gave; exit 0 when
+// all are valid, 2 otherwise.
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -13,6 +15,7 @@
 #include "endovascular_sim/core/file_path.h"
 #include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/geometry/vessel_field.h"
+#include "endovascular_sim/scene/centerline_scene.h"
 #include "endovascular_sim/scene/centerline_vtk.h"
 #include "endovascular_sim/scene/device_file.h"
 #include "endovascular_sim/sim/simulation.h"
@@ -30,10 +33,8 @@ bool isStateFile(const std::string& path) {
 }
 
 double unitOf(const std::string& units) {
-  if (units == "m") return 1.0;
-  if (units == "cm") return 1e-2;
-  if (units == "mm") return 1e-3;
-  if (units == "um") return 1e-6;
+  const double unit = lengthUnit(units);
+  if (unit > 0.0) return unit;
   throw LoadError("", 0, "--units", "must be m, cm, mm or um, got '" + units + "'");
 }
 
@@ -101,6 +102,9 @@ int checkFiles(const CheckOptions& o) {
     try {
       const std::string what = checkOne(o, path);
       std::cout << path << ": ok (" << what << ")\n";
+    } catch (const LoadErrors& e) {  // every problem the loader found, a line each
+      for (const LoadError& one : e.all()) std::cout << one.what() << "\n";
+      ++bad;
     } catch (const LoadError& e) {
       std::cout << e.what() << "\n";
       ++bad;

@@ -14,9 +14,19 @@ constexpr int kExitOk = 0;
 constexpr int kExitFailure = 1;
 constexpr int kExitBadInput = 2;
 
+/// How a bare centreline file given in place of a scene is read: its units
+/// (required for VTK), its radius array, and the scene whose devices and
+/// settings it gets (scene/centerline_scene.h).
+struct CenterlineSource {
+  std::string units;
+  std::string radius_array{"MaximumInscribedSphereRadius"};
+  std::string base{"patient_example"};
+};
+
 struct RunOptions {
   std::string scene;
-  long steps{-1};  // -1: the scene's duration
+  CenterlineSource centerline;  // when `scene` is a centreline file
+  long steps{-1};               // -1: the scene's duration
   bool json{false};
   std::string dump_lcp;    // folder for each step's last LCP ("" none)
   std::string load_state;  // state file to start from ("" none)
@@ -112,6 +122,6 @@ int materialsCommand(double energy_kev);
 /// `evsim vessels`: a scene's vessel tree (branch ids for a VTK
 /// centreline's names), how closely its surface keeps the radii, and what a
 /// field evaluation costs.
-int vesselsCommand(const std::string& scene);
+int vesselsCommand(const std::string& scene, const CenterlineSource& centerline);
 
 }  // namespace evsim

@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/scene/scene_file.h"
+#include "endovascular_sim/scene/scene_schema.h"
 
 #ifndef EVSIM_VERSION
 #define EVSIM_VERSION "unknown"
@@ -18,10 +19,25 @@ namespace evsim {
 namespace {
 
 constexpr const char* kSceneHelp = "a shipped scene's name (evsim list) or a scene file's path";
+constexpr const char* kSceneOrCenterlineHelp =
+    "a shipped scene's name (evsim list), a scene file's path, or a centreline file (.vtp, .vtk, "
+    ".swc: see --units, --base)";
+
+/// The options of a bare centreline given in place of a scene.
+void addCenterlineSource(CLI::App* command, CenterlineSource* c) {
+  command->add_option("--units", c->units,
+                      "a .vtp/.vtk centreline's units: m, cm, mm, um (required for them)");
+  command->add_option("--radius-array", c->radius_array,
+                      "its radius point-data array (default MaximumInscribedSphereRadius)");
+  command->add_option("--base", c->base,
+                      "the scene whose devices and settings it gets, entering at its inlet "
+                      "(default patient_example)");
+}
 
 void addRun(CLI::App& app, RunOptions* o) {
   CLI::App* run = app.add_subcommand("run", "step a scene; a progress line per 0.1 s, or JSON");
-  run->add_option("scene", o->scene, kSceneHelp)->required();
+  run->add_option("scene", o->scene, kSceneOrCenterlineHelp)->required();
+  addCenterlineSource(run, &o->centerline);
   run->add_option("--steps", o->steps, "steps to run (default: the scene's duration)")
       ->check(CLI::Range(0L, 100000000L));
   run->add_flag("--json", o->json, "one JSON object per step on stdout");
@@ -176,6 +192,8 @@ int dispatch(int argc, char** argv) {
       ->add_option("--energy", energy_kev, "effective beam energy [keV]")
       ->check(CLI::Range(35.0, 120.0));
   app.add_subcommand("list", "the shipped scenes");
+  app.add_subcommand("schema",
+                     "the scene format's keys (type, unit, default, range, meaning) as Markdown");
   CheckOptions check;
   CLI::App* check_command = app.add_subcommand(
       "check", "validate scene, device, centreline and state files without running them");
@@ -186,16 +204,18 @@ int dispatch(int argc, char** argv) {
                             "units of a .vtp/.vtk centreline (m, cm, mm, um; required for them)");
   check_command->add_option("--scene", check.scene, "the scene a state file belongs to");
   std::string vessels_scene;
-  app.add_subcommand("vessels",
-                     "a scene's vessel tree, its branch ids, the surface's fidelity to the radii")
-      ->add_option("scene", vessels_scene, kSceneHelp)
-      ->required();
+  CenterlineSource vessels_centerline;
+  CLI::App* vessels = app.add_subcommand(
+      "vessels", "a scene's vessel tree, its branch ids, the surface's fidelity to the radii");
+  vessels->add_option("scene", vessels_scene, kSceneOrCenterlineHelp)->required();
+  addCenterlineSource(vessels, &vessels_centerline);
   const auto known =
       app.get_subcommands([&](const CLI::App* c) { return argc > 1 && c->get_name() == argv[1]; });
   if (argc > 1 && argv[1][0] != '-' && known.empty()) {
-    std::cerr << "evsim: unknown command '" << argv[1]
-              << "' (run, bench, navigate, render, materials, mesh, vessels, check, list; evsim "
-                 "--help)\n";
+    std::cerr
+        << "evsim: unknown command '" << argv[1]
+        << "' (run, bench, navigate, render, materials, mesh, vessels, check, list, schema; evsim "
+           "--help)\n";
     return kExitBadInput;
   }
   try {
@@ -209,8 +229,12 @@ int dispatch(int argc, char** argv) {
   if (app.got_subcommand("navigate")) return navigateScene(navigate);
   if (app.got_subcommand("render")) return renderScene(render);
   if (app.got_subcommand("materials")) return materialsCommand(energy_kev);
-  if (app.got_subcommand("vessels")) return vesselsCommand(vessels_scene);
+  if (app.got_subcommand("vessels")) return vesselsCommand(vessels_scene, vessels_centerline);
   if (app.got_subcommand("check")) return checkFiles(check);
+  if (app.got_subcommand("schema")) {
+    std::cout << sceneSchemaMarkdown();
+    return kExitOk;
+  }
   if (app.got_subcommand("list")) {
     for (const auto& s : shippedScenes()) std::cout << s << "\n";
     return kExitOk;

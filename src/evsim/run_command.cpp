@@ -10,6 +10,7 @@
 #include "endovascular_sim/sim/simulation.h"
 #include "endovascular_sim/sim/state_file.h"
 #include "output_paths.h"
+#include "scene_source.h"
 #include "step_json.h"
 #include "vtk_output.h"
 
@@ -67,7 +68,8 @@ int runScene(const RunOptions& o) {
     std::cerr << "evsim: " << bad_output << "\n";
     return kExitBadInput;
   }
-  const SceneModel model = loadScene(o.scene);  // LoadError: main reports it
+  const SceneModel model =
+      buildSceneModel(sceneSpecOf(o.scene, o.centerline));  // LoadError: main reports it
   SimData data = makeData(model);
   if (!o.load_state.empty()) loadState(model, o.load_state, &data);
   const long steps = o.steps >= 0

@@ -1,3 +1,5 @@
+// Variants of a scene for benchmarks and sweeps: the same scene with another
+// discretisation. Declared and documented in scene_variants.h.
 #include "scene_variants.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// One JSON object per simulation step, for `evsim run --json`. Declared and
+// documented in step_json.h.
 #include "step_json.h"
 
 #include <cstdio>

@@ -12,6 +12,7 @@
 #include "endovascular_sim/geometry/vessel_atlas.h"
 #include "endovascular_sim/scene/centerline_vtk.h"
 #include "endovascular_sim/scene/scene_file.h"
+#include "scene_source.h"
 
 namespace evsim {
 namespace {
@@ -44,8 +45,8 @@ void printFigures(const char* where, const FidelityFigures& f) {
 
 }  // namespace
 
-int vesselsCommand(const std::string& scene) {
-  const SceneSpec spec = loadSceneFile(resolveScenePath(scene));
+int vesselsCommand(const std::string& scene, const CenterlineSource& centerline) {
+  const SceneSpec spec = sceneSpecOf(scene, centerline);
   if (!spec.vessels.present) {
     std::cerr << "evsim: scene '" << spec.name << "' has no vessels\n";
     return kExitBadInput;
@@ -62,7 +63,12 @@ int vesselsCommand(const std::string& scene) {
         "  file: %d points, %s -> tree of %d branches, %d points; simplified to axis <= %.3f mm, "
         "radius <= %.2f %% (tolerances %.3f mm, %.1f %%)\n",
         report.file_points,
-        report.overlapping ? "one polyline per outlet (merged)" : "a merged tree of line cells",
+        report.tracts > 0
+            ? (std::to_string(report.tracts) + " tracts joined per centreline, merged" +
+               (report.grouped ? " by their groups" : ""))
+                  .c_str()
+        : report.overlapping ? "one polyline per outlet (merged)"
+                             : "a merged tree of line cells",
         report.branches, report.points, report.max_axis_error * 1e3,
         100.0 * report.max_radius_error, v.tree.tolerance * 1e3, 100.0 * v.tree.radius_tolerance);
   }

@@ -1,3 +1,5 @@
+// What evsim writes for ParaView, with VTK's own XML writer (binary, zlib).
+// Declared and documented in vtk_output.h.
 #include "vtk_output.h"
 
 #include <vtkCellArray.h>

@@ -1,3 +1,4 @@
+// What `evsim render` writes. Declared and documented in xray_recorder.h.
 #include "xray_recorder.h"
 
 #include <vtkImageData.h>

@@ -1,3 +1,7 @@
+// Everything the node publishes for a frame, stamped with the simulation's
+// clock: the wall time at the node's start plus the simulated time, carried on
+// without a jump backwards across resets and scene switches. Declared and
+// documented in endovascular_sim/ros/frame_publisher.h.
 #include "endovascular_sim/ros/frame_publisher.h"
 
 #include <diagnostic_msgs/DiagnosticArray.h>

@@ -1,3 +1,6 @@
+// Joystick to drive commands (ROS-free: the node passes the axes and buttons
+// of sensor_msgs/Joy). Declared and documented in
+// endovascular_sim/ros/joystick_mapping.h.
 #include "endovascular_sim/ros/joystick_mapping.h"
 
 #include <cmath>

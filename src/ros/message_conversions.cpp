@@ -1,3 +1,6 @@
+// Core types to ROS messages (geometry, stats, contacts, device states,
+// paths). Declared and documented in
+// endovascular_sim/ros/message_conversions.h.
 #include "endovascular_sim/ros/message_conversions.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// The NavigateTo action (action/NavigateTo.action) of the node. Declared and
+// documented in endovascular_sim/ros/navigate_action.h.
 #include "endovascular_sim/ros/navigate_action.h"
 
 #include <cmath>

@@ -1,3 +1,6 @@
+// Thin ROS adapter of the core simulation: parameters, topics, services and
+// dynamic_reconfigure. Declared and documented in
+// endovascular_sim/ros/navigation_node.h.
 #include "endovascular_sim/ros/navigation_node.h"
 
 #include <cmath>
@@ -6,6 +9,7 @@
 #include <sstream>
 
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/scene/centerline_scene.h"
 
 namespace evsim {
 namespace {
@@ -47,6 +51,9 @@ NavigationNode::Parameters NavigationNode::readParameters(const ros::NodeHandle&
   Parameters p;
   std::vector<std::string> problems;
   readParam(nh, "scene", &p.scene, &problems, "a scene name or path");
+  readParam(nh, "units", &p.units, &problems, "m, cm, mm or um");
+  readParam(nh, "radius_array", &p.radius_array, &problems, "a point-data array name");
+  readParam(nh, "centerline_base", &p.centerline_base, &problems, "a scene name or path");
   readParam(nh, "rate", &p.rate_hz, &problems, "a number [Hz]");
   readParam(nh, "frame_id", &p.frame_id, &problems, "a string");
   readParam(nh, "use_script", &p.use_script, &problems, "true or false");
@@ -103,7 +110,9 @@ NavigationNode::NavigationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<endovascular_sim::SolverConfig>>(
       reconfigure_mutex_, private_nh_);
   std::string message;
-  if (!loadSceneNamed(params_.scene, &message, /*from_request=*/false))
+  if (!loadSceneNamed({params_.scene, params_.units, params_.radius_array, params_.centerline_base},
+                      &message,
+                      /*from_request=*/false))
     throw std::runtime_error(message);
   reconfigure_->setCallback(
       [this](endovascular_sim::SolverConfig& c, uint32_t level) { onReconfigure(c, level); });
@@ -122,6 +131,15 @@ NavigationNode::NavigationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
                  endovascular_sim::LoadScene::Response& res) { return onLoadScene(req, res); },
           ros::VoidConstPtr(), &load_queue_);
   load_srv_ = nh_.advertiseService(load_options);
+  ros::AdvertiseServiceOptions centerline_options =
+      ros::AdvertiseServiceOptions::create<endovascular_sim::LoadCenterline>(
+          "load_centerline",
+          [this](endovascular_sim::LoadCenterline::Request& req,
+                 endovascular_sim::LoadCenterline::Response& res) {
+            return onLoadCenterline(req, res);
+          },
+          ros::VoidConstPtr(), &load_queue_);
+  load_centerline_srv_ = nh_.advertiseService(centerline_options);
   load_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &load_queue_);
   load_spinner_->start();
   list_srv_ = nh_.advertiseService("list_scenes", &NavigationNode::onListScenes, this);
@@ -158,10 +176,10 @@ std::string NavigationNode::sceneFileFor(const std::string& request,
     const auto rel = real.lexically_relative(base);
     return !rel.empty() && *rel.begin() != "..";
   };
-  bool allowed = any || within(shipped);
+  bool allowed = any || within(configDirectory());
   for (const std::string& f : folders) allowed = allowed || within(f);
   if (!allowed) {
-    std::string list = shipped.string();
+    std::string list = configDirectory();
     for (const std::string& f : folders) list += ", " + f;
     throw LoadError(request, 0, "scene",
                     "outside the scene folders (" + list +
@@ -170,15 +188,23 @@ std::string NavigationNode::sceneFileFor(const std::string& request,
   return real.string();
 }
 
-bool NavigationNode::loadSceneNamed(const std::string& scene, std::string* message,
+SceneModel NavigationNode::buildRequestedScene(const SceneRequest& r, bool from_request) const {
+  auto resolve = [&](const std::string& name) {
+    return from_request ? sceneFileFor(name, params_.scene_folders, params_.allow_any_scene_path)
+                        : resolveScenePath(name);
+  };
+  const std::string file = resolve(r.scene);
+  if (!isCenterlinePath(file)) return loadScene(file);
+  const SceneSpec base = loadSceneFile(resolve(r.base));
+  return buildSceneModel(centerlineScene(base, {file, r.units, r.radius_array}));
+}
+
+bool NavigationNode::loadSceneNamed(const SceneRequest& request, std::string* message,
                                     bool from_request) {
   std::shared_ptr<const SceneModel> model;
   std::shared_ptr<const SurfaceMesh> mesh;
   try {
-    const std::string file =
-        from_request ? sceneFileFor(scene, params_.scene_folders, params_.allow_any_scene_path)
-                     : resolveScenePath(scene);
-    model = std::make_shared<const SceneModel>(loadScene(file));
+    model = std::make_shared<const SceneModel>(buildRequestedScene(request, from_request));
     if (model->vessels && params_.vessel_mesh_spacing > 0.0)
       mesh = std::make_shared<const SurfaceMesh>(
           meshVesselSurface(*model->vessels, params_.vessel_mesh_spacing));
@@ -299,7 +325,26 @@ void NavigationNode::onJoy(const sensor_msgs::Joy& msg) {
 bool NavigationNode::onLoadScene(endovascular_sim::LoadScene::Request& req,
                                  endovascular_sim::LoadScene::Response& res) {
   std::lock_guard<std::mutex> one_at_a_time(load_mutex_);
-  res.success = loadSceneNamed(req.scene, &res.message, /*from_request=*/true);
+  // A centreline given here takes its units from ~units, read now.
+  SceneRequest r{req.scene, params_.units, params_.radius_array, params_.centerline_base};
+  private_nh_.getParam("units", r.units);
+  res.success = loadSceneNamed(r, &res.message, /*from_request=*/true);
+  return true;
+}
+
+bool NavigationNode::onLoadCenterline(endovascular_sim::LoadCenterline::Request& req,
+                                      endovascular_sim::LoadCenterline::Response& res) {
+  std::lock_guard<std::mutex> one_at_a_time(load_mutex_);
+  const SceneRequest r{req.centerline, req.units,
+                       req.radius_array.empty() ? params_.radius_array : req.radius_array,
+                       req.base_scene.empty() ? params_.centerline_base : req.base_scene};
+  if (!isCenterlinePath(r.scene)) {
+    res.success = false;
+    res.message = "cannot load centreline: '" + r.scene + "' is not a .vtp, .vtk or .swc file";
+    ROS_ERROR_STREAM(res.message);
+    return true;
+  }
+  res.success = loadSceneNamed(r, &res.message, /*from_request=*/true);
   return true;
 }
 

@@ -1,3 +1,5 @@
+// The navigation node's main(): builds NavigationNode (ros/navigation_node.h)
+// from the node's parameters and spins; a failed start says why and exits 1.
 #include <ros/ros.h>
 
 #include <iostream>

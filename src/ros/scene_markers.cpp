@@ -1,3 +1,7 @@
+// rviz markers of a frame: device tubes, contact points, force arrows and the
+// tangent planes of the contacts drawn as small quads (the paper's Figure 1);
+// and the vessel surface mesh, moved with the vessels. Declared and documented
+// in endovascular_sim/ros/scene_markers.h.
 #include "endovascular_sim/ros/scene_markers.h"
 
 #include <cmath>

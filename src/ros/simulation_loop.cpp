@@ -1,3 +1,7 @@
+// The fixed-step simulation loop of the node (ROS-free): a thread that runs
+// frames of a fixed number of steps (1 / (rate dt), as the scene's time step
+// asks) paced by the wall clock. Declared and documented in
+// endovascular_sim/ros/simulation_loop.h.
 #include "endovascular_sim/ros/simulation_loop.h"
 
 #include <algorithm>

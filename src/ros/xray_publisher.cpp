@@ -1,3 +1,7 @@
+// Virtual fluoroscopy on ROS: a thread of its own renders the latest
+// simulation snapshot (imaging/xray_renderer.h) at the X-ray frame rate and
+// publishes it through image_transport, so that the simulation keeps its rate.
+// Declared and documented in endovascular_sim/ros/xray_publisher.h.
 #include "endovascular_sim/ros/xray_publisher.h"
 
 #include <geometry_msgs/TransformStamped.h>

@@ -1,7 +1,10 @@
 // The vessel field at the scale of a cerebrovascular network: one field +
 // gradient evaluation and one first-root query near the right common carotid
 // wall, for networks of 10 ... 16,000 generated vessels; and the time to
-// build (grow + index) the scene's 4,000-vessel network.
+// build (grow + index) the scene's 4,000-vessel network; and the fidelity of
+// each shipped tree's surface to its radii (counters: the lumen radius
+// against the centreline's, along the vessels and at forks and ends, in %;
+// the test trees print theirs in CenterlineVtk.* and PatientExample.*).
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -9,6 +12,7 @@
 
 #include "endovascular_sim/geometry/network_generator.h"
 #include "endovascular_sim/geometry/root_finding.h"
+#include "endovascular_sim/geometry/surface_fidelity.h"
 #include "endovascular_sim/scene/scene_file.h"
 
 namespace evsim {
@@ -84,6 +88,24 @@ void BM_BuildNetworkScene(benchmark::State& st) {
   }
 }
 BENCHMARK(BM_BuildNetworkScene)->Unit(benchmark::kMillisecond);
+
+void surfaceFidelity(benchmark::State& st, const char* scene) {
+  const SceneSpec spec = loadSceneFile(resolveScenePath(scene));
+  const Centerline c = buildCenterline(spec.vessels);
+  const VesselField field(c, {}, {}, spec.vessels.field);  // the tree's own surface: no domes
+  SurfaceFidelity f;
+  for (auto _ : st) f = measureSurfaceFidelity(field, c);
+  st.counters["along_median_pct"] = 100.0 * f.along.median;
+  st.counters["along_worst_pct"] = 100.0 * f.along.worst;
+  st.counters["forks_median_pct"] = 100.0 * f.at_forks.median;
+  st.counters["rays"] = f.along.rays + f.at_forks.rays;
+}
+BENCHMARK_CAPTURE(surfaceFidelity, carotid, "carotid")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(surfaceFidelity, aneurysm, "aneurysm")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(surfaceFidelity, tortuous, "tortuous")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(surfaceFidelity, dead_end, "dead_end")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(surfaceFidelity, patient_example, "patient_example")
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace evsim

@@ -64,6 +64,64 @@ TEST(EvsimCli, BadInputExitsTwoAndSaysWhy) {
   EXPECT_TRUE(says(spacing, "1e-4"));
 }
 
+TEST(EvsimCli, CheckPrintsEveryProblemOfASceneAtOnce) {
+  const std::string bad = (std::filesystem::temp_directory_path() / "evsim_cli_bad.yaml").string();
+  std::ofstream(bad) << "name: bad\ntime_step: 0.5\ngravty: [0, 0, -9.81]\n"
+                        "devices: [{file: x.urdf, drive: {max_force: -2}}]\n";
+  const std::string good = std::string(EVSIM_TEST_DATA_DIR) + "/../../config/scenes/carotid.yaml";
+  const Outcome check = evsim("check " + bad + " " + good);
+  EXPECT_EQ(check.code, 2);
+  for (const std::string& line :
+       {bad + ":2:12: time_step: must lie in (0, 0.04] s, got 0.5",
+        bad + ":3:1: gravty: unknown key 'gravty' (did you mean 'gravity'?)",
+        bad + ":4:45: devices[0].drive.max_force: must be above 0 N, got -2", good + ": ok",
+        std::string("1 valid, 1 with errors")})
+    EXPECT_TRUE(says(check, line)) << line << "\n" << check.output;
+  const Outcome run = evsim("run " + bad);
+  EXPECT_EQ(run.code, 2);
+  EXPECT_TRUE(says(run, "(and 2 more: `evsim check " + bad + "` lists every one)")) << run.output;
+  // A device with two bad sections, an SWC file with two bad lines: both
+  // problems of each.
+  const std::string config = std::string(EVSIM_TEST_DATA_DIR) + "/../../config/";
+  std::ifstream urdf_in(config + "devices/guidewire.urdf");
+  std::string urdf((std::istreambuf_iterator<char>(urdf_in)), std::istreambuf_iterator<char>());
+  for (const char* section :
+       {"link=\"shaft\" young_modulus=\"6e10\"", "link=\"j_tip\" young_modulus=\"2e10\""}) {
+    const size_t at = urdf.find(section);
+    ASSERT_NE(at, std::string::npos);
+    urdf.replace(urdf.find("young_modulus=", at) + 15, 4, "-1e9");
+  }
+  const std::string device =
+      (std::filesystem::temp_directory_path() / "evsim_cli_bad.urdf").string();
+  std::ofstream(device) << urdf;
+  const std::string swc = (std::filesystem::temp_directory_path() / "evsim_cli_bad.swc").string();
+  std::ofstream(swc) << "# units: mm\n1 1 0 0 0 3 -1\n2 1 0 0 x 3 1\n3 1 0 0 20 -3 2\n";
+  const Outcome files = evsim("check " + device + " " + swc);
+  EXPECT_EQ(files.code, 2);
+  for (const std::string& words :
+       {std::string("evsim_section[shaft]/young_modulus"),
+        std::string("evsim_section[j_tip]/young_modulus"), swc + ":3: z: 'x' is not a number",
+        swc + ":4: radius: must be positive"})
+    EXPECT_TRUE(says(files, words)) << words << "\n" << files.output;
+  const Outcome schema = evsim("schema");
+  EXPECT_EQ(schema.code, 0);
+  EXPECT_TRUE(says(schema, "| `time_step` | number | s | required | (0, 0.04] |"));
+}
+
+TEST(EvsimCli, ABareCentrelineIsLookedAtAndRunWithItsUnits) {
+  const std::string vtp =
+      std::string(EVSIM_TEST_DATA_DIR) + "/../../config/vessels/example_patient.vtp";
+  const Outcome vessels = evsim("vessels " + vtp + " --units mm");
+  EXPECT_EQ(vessels.code, 0) << vessels.output;
+  EXPECT_TRUE(says(vessels, "tree of 13 branches")) << vessels.output;
+  const Outcome no_units = evsim("run " + vtp + " --steps 10");
+  EXPECT_EQ(no_units.code, 2);
+  EXPECT_TRUE(says(no_units, "units declared")) << no_units.output;
+  const Outcome run = evsim("run " + vtp + " --units mm --steps 200");
+  EXPECT_EQ(run.code, 0) << run.output;
+  EXPECT_TRUE(says(run, "guidewire in branch_0")) << run.output;
+}
+
 TEST(EvsimCli, AnUnwritableOutputIsRefusedBeforeTheRun) {
   const Outcome save = evsim("run carotid --save-state /no/such/folder/state.txt");
   EXPECT_EQ(save.code, 2);

@@ -58,15 +58,35 @@ std::string joinLines(const std::vector<std::string>& lines) {
   return out;
 }
 
+/// A number of the text (a run of digits, or a minus, not inside a word)
+/// replaced by one of kNumbers: NaN, infinities, extremes, a word, a list.
+std::string replaceANumber(const std::string& text, std::mt19937_64& rng, std::string* what) {
+  auto pick = [&](size_t n) { return n == 0 ? 0 : static_cast<size_t>(rng() % n); };
+  static const char* kNumbers[] = {
+      "nan",    "inf",    "-inf",   "1e308",      "-1e308",
+      "0",      "-1",     "1e-300", "4294967297", "abc",
+      "[1, 2]", "{a: 1}", "",       "-0.0000001", "99999999999999999999"};
+  std::vector<size_t> starts;
+  for (size_t i = 0; i < text.size(); ++i)
+    if ((std::isdigit(static_cast<unsigned char>(text[i])) || text[i] == '-') &&
+        (i == 0 || !std::isalnum(static_cast<unsigned char>(text[i - 1]))))
+      starts.push_back(i);
+  if (starts.empty()) return text;
+  const size_t s = starts[pick(starts.size())];
+  size_t e = s + 1;
+  while (e < text.size() && (std::isalnum(static_cast<unsigned char>(text[e])) || text[e] == '.' ||
+                             text[e] == '-' || text[e] == '+'))
+    ++e;
+  const std::string by = kNumbers[pick(sizeof(kNumbers) / sizeof(kNumbers[0]))];
+  *what = "the number '" + text.substr(s, e - s) + "' made '" + by + "'";
+  return text.substr(0, s) + by + text.substr(e);
+}
+
 /// One mutation of a text file, drawn from rng; *what says which.
 std::string mutate(const std::string& text, std::mt19937_64& rng, std::string* what) {
   std::vector<std::string> lines = splitLines(text);
   auto pick = [&](size_t n) { return n == 0 ? 0 : static_cast<size_t>(rng() % n); };
   const size_t at = pick(lines.size());
-  static const char* kNumbers[] = {
-      "nan",    "inf",    "-inf",   "1e308",      "-1e308",
-      "0",      "-1",     "1e-300", "4294967297", "abc",
-      "[1, 2]", "{a: 1}", "",       "-0.0000001", "99999999999999999999"};
   switch (rng() % 11) {
     case 0:
       *what = "line " + std::to_string(at + 1) + " deleted";
@@ -87,22 +107,8 @@ std::string mutate(const std::string& text, std::mt19937_64& rng, std::string* w
       return joinLines(lines);
     }
     case 3:
-    case 4: {  // a number replaced
-      std::vector<size_t> starts;
-      for (size_t i = 0; i < text.size(); ++i)
-        if ((std::isdigit(static_cast<unsigned char>(text[i])) || text[i] == '-') &&
-            (i == 0 || !std::isalnum(static_cast<unsigned char>(text[i - 1]))))
-          starts.push_back(i);
-      if (starts.empty()) return text;
-      const size_t s = starts[pick(starts.size())];
-      size_t e = s + 1;
-      while (e < text.size() && (std::isalnum(static_cast<unsigned char>(text[e])) ||
-                                 text[e] == '.' || text[e] == '-' || text[e] == '+'))
-        ++e;
-      const std::string by = kNumbers[pick(sizeof(kNumbers) / sizeof(kNumbers[0]))];
-      *what = "the number '" + text.substr(s, e - s) + "' made '" + by + "'";
-      return text.substr(0, s) + by + text.substr(e);
-    }
+    case 4:
+      return replaceANumber(text, rng, what);
     case 5: {  // a value's type swapped
       static const char* kValues[] = {"{x: 1}", "[1, 2, 3]", "text", "~", "[]", "{}", "[[1]]"};
       if (lines.empty()) return text;

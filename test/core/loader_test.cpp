@@ -54,10 +54,10 @@ TEST_F(Loader, DriveLimitsAreReadAndChecked) {
   EXPECT_TRUE(std::isinf(loadSceneFile(write("plain.yaml", kScene)).devices[0].drive.max_force));
   expectNames(
       sceneError("inserted_length: 0.05", "inserted_length: 0.05\n    drive: {max_force: -1}"),
-      "scene.yaml", 10, "devices[0].drive.max_force", "must be a positive force");
+      "scene.yaml", 10, "devices[0].drive.max_force", "must be above 0 N, got -1");
   expectNames(
       sceneError("inserted_length: 0.05", "inserted_length: 0.05\n    drive: {max_torque: 0}"),
-      "scene.yaml", 10, "devices[0].drive.max_torque", "must be a positive torque");
+      "scene.yaml", 10, "devices[0].drive.max_torque", "must be above 0 N m, got 0");
   expectNames(sceneError("inserted_length: 0.05",
                          "inserted_length: 0.05\n    drive: {valve_friction: -0.1}"),
               "scene.yaml", 10, "devices[0].drive.valve_friction", "[0, 100] N");
@@ -75,7 +75,7 @@ TEST_F(Loader, LumenSettleIsReadAndChecked) {
   EXPECT_EQ(loadSceneFile(write("plain.yaml", kScene)).contact.lumen_settle, 0.03);
   expectNames(
       sceneError("effects: [gravity]\n", "effects: [gravity]\ncontact: {lumen_settle: 2}\n"),
-      "scene.yaml", 4, "contact", "lumen_settle must lie in [1e-4, 1]");
+      "scene.yaml", 4, "contact.lumen_settle", "must lie in [1e-4, 1], got 2");
 }
 
 TEST_F(Loader, MissingFieldIsNamed) {
@@ -155,12 +155,12 @@ TEST_F(Loader, MissingSceneFieldIsNamed) {
 
 TEST_F(Loader, NanInSceneIsNamed) {
   expectNames(sceneError("[0, 0, -9.81]", "[0, .nan, -9.81]"), "scene.yaml", 4, "gravity",
-              "must be finite");
+              "must be a list of 3 finite numbers");
 }
 
 TEST_F(Loader, UnknownEffectIsNamed) {
-  expectNames(sceneError("[gravity]", "[gravity, magnetism]"), "scene.yaml", 3, "effects",
-              "unknown effect 'magnetism'");
+  expectNames(sceneError("[gravity]", "[gravity, magnetism]"), "scene.yaml", 3, "effects[1]",
+              "'magnetism' must be one of gravity, vessel_motion, device_contact");
 }
 
 TEST_F(Loader, AMisspelledKeyIsRefusedWithTheNearestOne) {

@@ -143,7 +143,7 @@ TEST_F(Loader, SleepOptionsAreChecked) {
   const LoadError word = sceneError("devices:", "sleep: maybe\ndevices:");
   expectNames(word, "scene.yaml", 5, "sleep", "true, false or a map");
   const LoadError range = sceneError("devices:", "sleep: {displacement: -1}\ndevices:");
-  expectNames(range, "scene.yaml", 5, "sleep", "displacement must lie in");
+  expectNames(range, "scene.yaml", 5, "sleep.displacement", "must lie in (0, 1e-4] m, got -1");
   write("wire.urdf", kDevice);
   std::string text = kScene;
   text.replace(text.find("devices:"), 8, "sleep: false\ndevices:");

@@ -7,10 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 
+#include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/geometry/surface_fidelity.h"
 #include "endovascular_sim/geometry/vessel_atlas.h"
 #include "endovascular_sim/geometry/vessel_field.h"
+#include "endovascular_sim/scene/centerline_scene.h"
 #include "endovascular_sim/sim/simulation.h"
 
 namespace evsim {
@@ -58,6 +61,59 @@ TEST(PatientExample, ItsSurfaceKeepsTheRadiiOfTheFile) {
   EXPECT_GT(f.along.rays, 200);
   EXPECT_LT(f.along.median, 0.05);
   EXPECT_LT(f.along.worst, 0.15);
+}
+
+/// The shipped centreline file alone, in a scene of patient_example's
+/// devices (what the node's load_centerline builds).
+SceneSpec bareCentrelineScene(const std::string& units) {
+  const SceneSpec base = loadSceneFile(resolveScenePath("patient_example"));
+  return centerlineScene(base, {configDirectory() + "/vessels/example_patient.vtp", units});
+}
+
+TEST(PatientExample, TheBareCentrelineLoadsAsASceneEnteredAtItsWidestEnd) {
+  const SceneSpec spec = bareCentrelineScene("mm");
+  EXPECT_EQ(spec.name, "example_patient");
+  EXPECT_TRUE(spec.targets.empty());
+  ASSERT_EQ(spec.script.size(), 1u) << "the base's script: in at 30 mm/s";
+  const SceneModel m = buildSceneModel(spec);
+  ASSERT_EQ(m.devices.size(), 1u);
+  EXPECT_EQ(m.devices[0].name, "guidewire");
+  // The inlet: the widest end of the tree (no inlet declared), the wire one
+  // radius in along the first branch.
+  const Centerline& c = *m.centerline;
+  std::vector<int> children(c.numPoints(), 0);
+  for (int i = 0; i < c.numPoints(); ++i)
+    if (c.parent[i] >= 0) ++children[c.parent[i]];
+  int root = -1;
+  double widest_end = 0.0;
+  for (int i = 0; i < c.numPoints(); ++i) {
+    if (c.parent[i] < 0) root = i;
+    if (children[i] == 0 || c.parent[i] < 0) widest_end = std::max(widest_end, c.radius[i]);
+  }
+  ASSERT_GE(root, 0);
+  EXPECT_DOUBLE_EQ(c.radius[root], widest_end);
+  EXPECT_NEAR((m.introducers[0].access_point - c.position[root]).norm(), c.radius[root], 1e-6);
+  // Every branch is named by its id; the wire goes in without a failed step.
+  for (const NamedVessel& v : m.atlas->vessels()) EXPECT_EQ(v.name.rfind("branch_", 0), 0u);
+  SimData d = makeData(m);
+  for (int k = 0; k < 1500; ++k) ASSERT_EQ(step(m, &d), StepStatus::kOk) << d.last_error;
+  EXPECT_NEAR(d.devices[0].inserted_length, 0.02 + 0.045, 1e-6);
+  EXPECT_TRUE(m.atlas->locate(d.devices[0].position.back()).inside) << "the tip in the tree";
+}
+
+TEST(PatientExample, ABareCentrelineWithoutUnitsIsRefused) {
+  for (const auto& [units, words] :
+       {std::pair{std::string(""), std::string("units declared")},
+        std::pair{std::string("inch"), std::string("must be m, cm, mm or um")}}) {
+    try {
+      bareCentrelineScene(units);
+      ADD_FAILURE() << "units '" << units << "' accepted";
+    } catch (const LoadError& e) {
+      EXPECT_EQ(e.field(), "units");
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+      EXPECT_NE(e.file().find("example_patient.vtp"), std::string::npos);
+    }
+  }
 }
 
 }  // namespace

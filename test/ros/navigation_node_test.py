@@ -20,7 +20,7 @@ import rostest
 import tf2_ros
 import yaml
 from endovascular_sim.msg import DeviceCommand, DeviceStatusArray, StepStats
-from endovascular_sim.srv import ListScenes, LoadScene
+from endovascular_sim.srv import ListScenes, LoadCenterline, LoadScene
 from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import Joy
 from std_srvs.srv import SetBool, Trigger
@@ -49,10 +49,11 @@ class NavigationNodeTest(unittest.TestCase):
         rospy.Subscriber('/rosout', Log, cls._on_log)
         cls.command_pub = rospy.Publisher('command', DeviceCommand, queue_size=10)
         cls.joy_pub = rospy.Publisher('joy', Joy, queue_size=10)
-        for name in ('list_scenes', 'load_scene', 'reset', 'pause'):
+        for name in ('list_scenes', 'load_scene', 'load_centerline', 'reset', 'pause'):
             rospy.wait_for_service(name, timeout=60)
         cls.list_scenes = rospy.ServiceProxy('list_scenes', ListScenes)
         cls.load_scene = rospy.ServiceProxy('load_scene', LoadScene)
+        cls.load_centerline = rospy.ServiceProxy('load_centerline', LoadCenterline)
         cls.reset = rospy.ServiceProxy('reset', Trigger)
         cls.pause = rospy.ServiceProxy('pause', SetBool)
         cls.tf_buffer = tf2_ros.Buffer()
@@ -285,6 +286,36 @@ class NavigationNodeTest(unittest.TestCase):
         self.wait_for(lambda: self.device_names() == ['guidewire'], 'the guidewire')
         self.wait_for(lambda: self.device('guidewire').tip_vessel == 'descending_aorta',
                       'the tip in the named descending aorta')
+
+    def test_a_bare_centreline_loads_with_its_units_and_is_refused_without(self):
+        vtp = '../vessels/example_patient.vtp'  # relative: from config/scenes/
+        # no units (the node has no ~units): refused, free_insertion goes on
+        for res in (self.load_centerline(centerline=vtp, units='', radius_array='',
+                                         base_scene=''),
+                    self.load_scene(vtp)):
+            self.assertFalse(res.success)
+            self.assertIn('units declared', res.message)
+            self.assertIn('example_patient.vtp', res.message)
+        res = self.load_centerline(centerline=vtp, units='furlong', radius_array='',
+                                   base_scene='')
+        self.assertFalse(res.success)
+        self.assertIn('must be m, cm, mm or um', res.message)
+        res = self.load_centerline(centerline=vtp, units='mm', radius_array='Radius',
+                                   base_scene='')
+        self.assertFalse(res.success)
+        self.assertIn("no point-data array 'Radius'", res.message)
+        t0 = self.sim_time()
+        self.wait_sim(0.1)
+        with self.lock:
+            self.assertEqual(self.stats.scene, 'free_insertion')
+            self.assertGreater(self.stats.sim_time, t0)
+        # with its units: the base scene's guidewire at the widest end
+        res = self.load_centerline(centerline=vtp, units='mm', radius_array='', base_scene='')
+        self.assertTrue(res.success, res.message)
+        self.wait_for(lambda: self.stats.scene == 'example_patient', 'example_patient stats')
+        self.wait_for(lambda: self.device_names() == ['guidewire'], 'the guidewire')
+        self.wait_for(lambda: self.device('guidewire').tip_vessel.startswith('branch_'),
+                      'the tip in a branch named by its id')
 
     def test_every_new_vessels_subscriber_gets_the_scene_mesh(self):
         from visualization_msgs.msg import Marker

@@ -5,7 +5,12 @@
 //  (a) one polyline per outlet, each from the inlet, overlapping along the
 //      shared paths (raw `vmtkcenterlines`): the lines are merged, longest
 //      first; a line joins the tree where it last runs within kShared of
-//      the local radius of it, and only what lies beyond becomes a branch;
+//      the local radius of it, and only what lies beyond becomes a branch.
+//      When the lines come from `vmtkbranchextractor`'s tracts (reassembled
+//      per centreline by scene/centerline_vtk.h), each point carries its
+//      tract's group: a point of a group already in the tree is shared
+//      whatever its distance, a point of a new group starts a branch, and
+//      the geometry decides only inside a bifurcation's blanked tracts;
 //  (b) a merged tree of line cells sharing point ids (SimVascular; often
 //      thousands of 2-point lines): the cells are joined at shared points
 //      (and at points that coincide).
@@ -33,6 +38,11 @@ struct CenterlinePolylines {
   std::vector<double> radius;
   std::vector<std::vector<int>> lines;
   std::vector<int> branch_id;
+  /// Per point, when the lines were reassembled from tracts: the group of
+  /// its tract (`GroupIds`), -1 in a bifurcation's blanked tract (or when
+  /// the file has no groups); else empty.
+  std::vector<int> point_group;
+  int tracts{0};  // the tracts the lines were reassembled from (0: none)
 };
 
 struct CenterlineTreeOptions {
@@ -47,13 +57,16 @@ struct CenterlineTreeOptions {
 /// and warnings for a tree that is usable but suspect.
 struct CenterlineTreeReport {
   bool overlapping{false};  // layout (a)
+  int tracts{0};            // layout (a) reassembled from this many tracts
+  bool grouped{false};      // merged by the tracts' group ids
   int file_points{0};
   int points{0};  // after simplification
   int branches{0};
   std::vector<int> branch_ids;        // per vessel of the tree, its branch id
   double max_axis_error{0.0};         // [m] of the simplification
   double max_radius_error{0.0};       // relative, against the smoothed radii
-  std::vector<std::string> warnings;  // dropped pieces, radii reaching other branches
+  std::vector<std::string> warnings;  // dropped pieces, radii reaching other branches,
+                                      // a group's tracts far apart
 };
 
 /// Builds the tree; throws std::invalid_argument saying what is wrong (no

@@ -11,6 +11,7 @@
 // sampling step (a ray grazing the wall), which can be missed.
 #pragma once
 
+#include <map>
 #include <vector>
 
 #include "endovascular_sim/geometry/centerline.h"
@@ -47,6 +48,10 @@ class VesselProjection {
   bool built() const { return !offset_.empty(); }
 
  private:
+  /// The pixels' pieces (segment, chord) into the CSR arrays below.
+  void pack(const std::vector<std::map<int, double>>& per_pixel, const std::vector<long>& pixel_of,
+            long pixels);
+
   std::vector<long> offset_;  // CSR over pixels
   std::vector<Piece> pieces_;
   long evaluations_{0};

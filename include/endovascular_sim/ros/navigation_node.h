@@ -4,7 +4,7 @@
 //
 // Subscribes: command (endovascular_sim/DeviceCommand), joy (sensor_msgs/Joy,
 //   with ~joystick set). Services: load_scene, list_scenes, reset
-//   (std_srvs/Trigger), pause (std_srvs/SetBool). Action: navigate_to
+//   (std_srvs/Trigger), pause (std_srvs/SetBool), load_centerline. Action: navigate_to
 //   (endovascular_sim/NavigateTo, ros/navigate_action.h). Virtual
 //   fluoroscopy: ros/xray_publisher.h. Parameters: see
 //   NavigationNode::Parameters and docs/ros_interface.md.
@@ -13,8 +13,11 @@
 // is built there while the simulation and the publisher go on with the old
 // one, then swapped in. Scene paths: a name is a shipped scene, a relative
 // path is taken from the package's config/scenes/, an absolute path must
-// lie in config/scenes/ or a folder of ~scene_folders (unless
-// ~allow_any_scene_path).
+// lie in the package's config/ or a folder of ~scene_folders (unless
+// ~allow_any_scene_path). A centreline file (.vtp, .vtk, .swc) loads as a
+// scene with the devices and settings of a base scene
+// (scene/centerline_scene.h): through load_centerline, which names its
+// units, or load_scene and ~scene, which take them from ~units.
 #pragma once
 
 #include <dynamic_reconfigure/server.h>
@@ -31,6 +34,7 @@
 
 #include "endovascular_sim/DeviceCommand.h"
 #include "endovascular_sim/ListScenes.h"
+#include "endovascular_sim/LoadCenterline.h"
 #include "endovascular_sim/LoadScene.h"
 #include "endovascular_sim/SolverConfig.h"
 #include "endovascular_sim/ros/frame_publisher.h"
@@ -44,9 +48,12 @@ namespace evsim {
 class NavigationNode {
  public:
   struct Parameters {
-    std::string scene{"carotid"};            // ~scene: shipped name or path
-    double rate_hz{25.0};                    // ~rate: published frames per second [Hz]
-    std::string frame_id{"world"};           // ~frame_id
+    std::string scene{"carotid"};  // ~scene: shipped name or path, or a centreline
+    std::string units;             // ~units: of a ~scene that is a VTK centreline
+    std::string radius_array{"MaximumInscribedSphereRadius"};  // ~radius_array: its radius data
+    std::string centerline_base{"patient_example"};  // ~centerline_base: devices for a centreline
+    double rate_hz{25.0};                            // ~rate: published frames per second [Hz]
+    std::string frame_id{"world"};                   // ~frame_id
     bool use_script{true};                   // ~use_script: run the scene's scripted commands
     std::string joystick;                    // ~joystick: mapping file ("" = no joystick)
     bool progress{true};                     // ~progress: a progress line per second
@@ -60,9 +67,10 @@ class NavigationNode {
     double wrench_cutoff_hz{0.0};  // ~wrench_cutoff: low-pass of drive_wrench [Hz]; 0 = raw
   };
 
-  /// The scene file a load_scene request names, or why it is refused
-  /// (name: shipped; relative path: from config/scenes/; absolute: within
-  /// config/scenes/ or one of `folders` unless `any`). Throws LoadError.
+  /// The scene (or centreline) file a load_scene request names, or why it
+  /// is refused (name: shipped; relative path: from config/scenes/;
+  /// absolute: within config/ or one of `folders` unless `any`). Throws
+  /// LoadError.
   static std::string sceneFileFor(const std::string& request,
                                   const std::vector<std::string>& folders, bool any);
 
@@ -73,16 +81,29 @@ class NavigationNode {
   static Parameters readParameters(const ros::NodeHandle& private_nh);
 
  private:
+  /// What to load: a scene, or a centreline with its units, radius array
+  /// and base scene.
+  struct SceneRequest {
+    std::string scene;
+    std::string units;
+    std::string radius_array;
+    std::string base;
+  };
   /// Builds a scene and swaps it in; false (message says why, the current
   /// scene goes on) when it cannot be loaded. from_request: a load_scene
   /// request, whose path must lie in the allowed folders.
-  bool loadSceneNamed(const std::string& scene, std::string* message, bool from_request);
+  bool loadSceneNamed(const SceneRequest& request, std::string* message, bool from_request);
+  /// The scene a request names: a scene file, or a centreline in the
+  /// scene ~centerline_base. Throws LoadError.
+  SceneModel buildRequestedScene(const SceneRequest& request, bool from_request) const;
   void onPublishTimer(const ros::WallTimerEvent& event);
   void onProgressTimer(const ros::WallTimerEvent& event);
   void onCommand(const endovascular_sim::DeviceCommand& msg);
   void onJoy(const sensor_msgs::Joy& msg);
   bool onLoadScene(endovascular_sim::LoadScene::Request& req,
                    endovascular_sim::LoadScene::Response& res);
+  bool onLoadCenterline(endovascular_sim::LoadCenterline::Request& req,
+                        endovascular_sim::LoadCenterline::Response& res);
   bool onListScenes(endovascular_sim::ListScenes::Request& req,
                     endovascular_sim::ListScenes::Response& res);
   bool onReset(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
@@ -97,7 +118,7 @@ class NavigationNode {
   JoystickMapping joystick_;
   JoystickState joystick_state_;
   ros::Subscriber command_sub_, joy_sub_;
-  ros::ServiceServer load_srv_, list_srv_, reset_srv_, pause_srv_;
+  ros::ServiceServer load_srv_, load_centerline_srv_, list_srv_, reset_srv_, pause_srv_;
   ros::CallbackQueue load_queue_;  // load_scene's own queue and thread
   std::unique_ptr<ros::AsyncSpinner> load_spinner_;
   std::mutex publisher_mutex_;  // publisher_ between the timers and a scene swap

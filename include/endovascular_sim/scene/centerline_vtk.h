@@ -4,8 +4,12 @@
 // from a point-data array (MaximumInscribedSphereRadius by default); units
 // are declared by the scene, never guessed. Branch ids come from the file
 // (BranchId, else GroupIds, else CenterlineIds: cell data, or point data
-// taken per cell) or from the outlet order; the tree is built and
-// simplified by geometry/centerline_tree.h.
+// taken per cell) or from the outlet order. The output of
+// `vmtkbranchextractor` (each centreline cut into tracts: cell arrays
+// CenterlineIds, TractIds, GroupIds, Blanking) is reassembled into one line
+// per centreline whose points carry their tract's group: the groups are
+// then the branch ids. The tree is built and simplified by
+// geometry/centerline_tree.h.
 #pragma once
 
 #include <string>

@@ -1,3 +1,7 @@
+// Coaxial devices: an inner device (a guidewire in a catheter, a coil in a
+// microcatheter) enters through its outer device's introducer and must stay
+// inside the outer device's lumen where the two overlap. Declared and
+// documented in endovascular_sim/contact/coaxial.h.
 #include "endovascular_sim/contact/coaxial.h"
 
 #include <algorithm>

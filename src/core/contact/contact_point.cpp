@@ -1,3 +1,6 @@
+// Points of a device where contacts are detected, sampled along its elements
+// (not only at nodes) with the beam's cubic Hermite interpolation. Declared
+// and documented in endovascular_sim/contact/contact_point.h.
 #include "endovascular_sim/contact/contact_point.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// The Delassus operator W = H A^-1 H^T of one device, without forming A^-1.
+// Declared and documented in endovascular_sim/contact/delassus.h.
 #include "endovascular_sim/contact/delassus.h"
 
 #include <algorithm>

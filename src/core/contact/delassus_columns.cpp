@@ -1,3 +1,6 @@
+// The loop's W formed column by column as the status method reads it
+// (contact/lcp.h, ColumnOperator). Declared and documented in
+// delassus_columns.h.
 #include "delassus_columns.h"
 
 #include <algorithm>

@@ -1,3 +1,6 @@
+// Pairs of device sample points closer than the sum of their radii (the effect
+// 'device_contact'; internal to the contact solver, contact_solver.cpp).
+// Declared and documented in device_pairs.h.
 #include "device_pairs.h"
 
 #include <algorithm>

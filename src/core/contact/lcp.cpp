@@ -1,3 +1,6 @@
+// Linear complementarity problems of the contact space: find z >= 0 with w = W
+// z + q >= 0 and z . Declared and documented in
+// endovascular_sim/contact/lcp.h.
 #include "endovascular_sim/contact/lcp.h"
 
 #include <Eigen/Cholesky>

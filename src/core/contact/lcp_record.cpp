@@ -1,3 +1,6 @@
+// A step's last LCP written to a file and read back (`evsim run --dump-lcp`):
+// W, q, the solver's answer and status, for a failure studied outside the
+// simulator. Declared and documented in endovascular_sim/contact/contact_solver.h.
 #include <cstdio>
 #include <fstream>
 #include <string>

@@ -1,3 +1,5 @@
+// The wall's curvature in the step's system matrix (a sequential-QP step).
+// Declared and documented in endovascular_sim/contact/wall_curvature.h.
 #include "endovascular_sim/contact/wall_curvature.h"
 
 #include <Eigen/Eigenvalues>

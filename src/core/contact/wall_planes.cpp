@@ -1,3 +1,7 @@
+// Where a point beyond the wall gets its tangent plane when projection cannot
+// give one, and whether a point's path from x_t tunnelled through a wall
+// (internal to the contact solver, contact_solver.cpp). Declared and
+// documented in wall_planes.h.
 #include "wall_planes.h"
 
 #include <limits>

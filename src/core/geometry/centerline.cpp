@@ -1,3 +1,5 @@
+// Vessel centrelines: a forest of points with radii, read from SWC files.
+// Declared and documented in endovascular_sim/geometry/centerline.h.
 #include "endovascular_sim/geometry/centerline.h"
 
 #include <algorithm>
@@ -160,18 +162,24 @@ SwcFile readSwcFile(const std::string& path, double default_unit) {
   SwcFile f;
   f.unit = default_unit;
   std::string text;
+  std::vector<LoadError> problems;  // every line's, at once
   while (std::getline(in, text)) {
     const int line = ++f.lines;
-    const size_t hash = text.find('#');
-    if (hash != std::string::npos) {
-      readSwcComment(text.substr(hash + 1), path, line, &f);
-      text = text.substr(0, hash);
+    try {
+      const size_t hash = text.find('#');
+      if (hash != std::string::npos) {
+        readSwcComment(text.substr(hash + 1), path, line, &f);
+        text = text.substr(0, hash);
+      }
+      std::istringstream fields(text);
+      std::vector<std::string> tokens;
+      for (std::string t; fields >> t;) tokens.push_back(t);
+      if (!tokens.empty()) f.rows.push_back(readSwcRow(tokens, path, line));
+    } catch (const LoadError& e) {
+      if (problems.size() < 100) problems.push_back(e);  // a binary file: the first 100
     }
-    std::istringstream fields(text);
-    std::vector<std::string> tokens;
-    for (std::string t; fields >> t;) tokens.push_back(t);
-    if (!tokens.empty()) f.rows.push_back(readSwcRow(tokens, path, line));
   }
+  throwLoadErrors(problems);
   if (f.rows.empty()) throw LoadError(path, f.lines, "", "the file has no points");
   return f;
 }

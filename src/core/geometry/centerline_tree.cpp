@@ -1,87 +1,25 @@
+// A vessel tree from the polylines of a patient's centreline (VMTK,
+// SimVascular; read by scene/centerline_vtk.h), without VTK. Declared and
+// documented in endovascular_sim/geometry/centerline_tree.h.
 #include "endovascular_sim/geometry/centerline_tree.h"
 
-#include <algorithm>
-#include <cmath>
+#include <map>
 #include <numeric>
-#include <sstream>
 #include <stdexcept>
-#include <unordered_map>
+
+#include "centerline_graph.h"
 
 namespace evsim {
 namespace {
 
-/// A point of an overlapping line within this fraction of its radius of
-/// the tree built so far runs along it (layout a).
-constexpr double kShared = 0.25;
-/// Points closer than this coincide [m].
-constexpr double kWeld = 1e-9;
-
-std::string mm(const Vec3& p) {
-  std::ostringstream s;
-  s.precision(4);
-  s << "(" << p.x() * 1e3 << ", " << p.y() * 1e3 << ", " << p.z() * 1e3 << ") mm";
-  return s.str();
-}
-
-/// Vertices joined by edges; a vertex keeps the branch id of its cell.
-struct Graph {
-  std::vector<Vec3> x;
-  std::vector<double> r;
-  std::vector<int> id;  // the file's branch id (or outlet index), -1 none
-  std::vector<std::vector<int>> adj;
-
-  int add(const Vec3& p, double radius, int branch) {
-    x.push_back(p);
-    r.push_back(radius);
-    id.push_back(branch);
-    adj.emplace_back();
-    return static_cast<int>(x.size()) - 1;
-  }
-  void join(int a, int b) {
-    if (a == b || std::find(adj[a].begin(), adj[a].end(), b) != adj[a].end()) return;
-    adj[a].push_back(b);
-    adj[b].push_back(a);
-  }
-};
-
-/// Uniform grid of vertices (cell size h [m]) for the nearest-vertex query.
-class VertexGrid {
- public:
-  explicit VertexGrid(double h) : h_(h) {}
-  void insert(const Vec3& p, int v) { cells_[key(p, 0, 0, 0)].push_back(v); }
-  /// Vertices within the 27 cells around p.
-  template <typename F>
-  void near(const Vec3& p, F&& visit) const {
-    for (int i = -1; i <= 1; ++i)
-      for (int j = -1; j <= 1; ++j)
-        for (int k = -1; k <= 1; ++k) {
-          const auto it = cells_.find(key(p, i, j, k));
-          if (it == cells_.end()) continue;
-          for (int v : it->second) visit(v);
-        }
-  }
-
- private:
-  long long key(const Vec3& p, int i, int j, int k) const {
-    const long long a = static_cast<long long>(std::floor(p.x() / h_)) + i;
-    const long long b = static_cast<long long>(std::floor(p.y() / h_)) + j;
-    const long long c = static_cast<long long>(std::floor(p.z() / h_)) + k;
-    return (a * 73856093LL) ^ (b * 19349663LL) ^ (c * 83492791LL);
-  }
-  double h_;
-  std::unordered_map<long long, std::vector<int>> cells_;
-};
-
-double segmentDistance(const Vec3& p, const Vec3& a, const Vec3& b, double* t = nullptr) {
-  const Vec3 ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double s = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  if (t) *t = s;
-  return (p - (a + s * ab)).norm();
-}
+using namespace centerline_graph;  // NOLINT: the graph the tree is built on
 
 void checkInput(const CenterlinePolylines& in) {
   if (in.points.empty()) throw std::invalid_argument("no points: the file is empty");
+  if (!in.point_group.empty() && in.point_group.size() != in.points.size())
+    throw std::invalid_argument("the tracts' groups cover " +
+                                std::to_string(in.point_group.size()) + " of " +
+                                std::to_string(in.points.size()) + " points");
   if (in.radius.size() != in.points.size())
     throw std::invalid_argument("the radius array has " + std::to_string(in.radius.size()) +
                                 " values for " + std::to_string(in.points.size()) + " points");
@@ -113,117 +51,6 @@ void checkInput(const CenterlinePolylines& in) {
     usable += line.size() >= 2;
   }
   if (usable == 0) throw std::invalid_argument("no lines of two or more points");
-}
-
-/// One vertex per distinct position (points within kWeld coincide).
-std::vector<int> weld(const CenterlinePolylines& in, Graph* g) {
-  std::vector<int> vertex(in.points.size(), -1);
-  VertexGrid grid(1e-6);
-  for (size_t l = 0; l < in.lines.size(); ++l)
-    for (int p : in.lines[l]) {
-      if (vertex[p] >= 0) continue;
-      int same = -1;
-      grid.near(in.points[p], [&](int v) {
-        if ((g->x[v] - in.points[p]).norm() <= kWeld) same = v;
-      });
-      if (same < 0) {
-        same = g->add(in.points[p], in.radius[p], in.branch_id.empty() ? -1 : in.branch_id[l]);
-        grid.insert(in.points[p], same);
-      }
-      vertex[p] = same;
-    }
-  return vertex;
-}
-
-/// Layout (a): no vertex is shared by two lines except as both lines' first.
-bool overlapping(const CenterlinePolylines& in, const std::vector<int>& vertex) {
-  int lines = 0;
-  std::unordered_map<int, int> first_user;  // vertex -> line, or -2 when shared otherwise
-  for (size_t l = 0; l < in.lines.size(); ++l) {
-    if (in.lines[l].size() < 2) continue;
-    ++lines;
-    for (size_t k = 0; k < in.lines[l].size(); ++k) {
-      const int v = vertex[in.lines[l][k]];
-      auto it = first_user.find(v);
-      if (it == first_user.end()) {
-        first_user[v] = k == 0 ? static_cast<int>(l) : -1 - static_cast<int>(l);
-        continue;
-      }
-      const int owner = it->second >= 0 ? it->second : -1 - it->second;
-      if (owner == static_cast<int>(l)) continue;
-      if (!(k == 0 && it->second >= 0)) return false;  // shared in the middle: a merged tree
-    }
-  }
-  return lines >= 2;
-}
-
-double arcLength(const CenterlinePolylines& in, const std::vector<int>& line) {
-  double s = 0.0;
-  for (size_t k = 1; k < line.size(); ++k)
-    s += (in.points[line[k]] - in.points[line[k - 1]]).norm();
-  return s;
-}
-
-/// Layout (a): the lines merged, longest first; each line's vertices carry
-/// its index in the file (its outlet).
-void mergeOverlapping(const CenterlinePolylines& in, double tolerance, Graph* g) {
-  std::vector<int> order;
-  for (size_t l = 0; l < in.lines.size(); ++l)
-    if (in.lines[l].size() >= 2) order.push_back(static_cast<int>(l));
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    return arcLength(in, in.lines[a]) > arcLength(in, in.lines[b]);
-  });
-  const double r_max = *std::max_element(in.radius.begin(), in.radius.end());
-  VertexGrid grid(std::max(kShared * r_max, 1e-5));
-  auto append = [&](int line, size_t from, int attach) {
-    int prev = attach;
-    for (size_t k = from; k < in.lines[line].size(); ++k) {
-      const int p = in.lines[line][k];
-      const int v = g->add(in.points[p], in.radius[p], line);
-      grid.insert(in.points[p], v);
-      if (prev >= 0) g->join(prev, v);
-      prev = v;
-    }
-  };
-  append(order[0], 0, -1);
-  for (size_t o = 1; o < order.size(); ++o) {
-    const std::vector<int>& line = in.lines[order[o]];
-    std::vector<int> nearest;  // per point along the tree: its nearest tree vertex
-    std::vector<double> gap;   // and its distance to the tree [m]
-    for (size_t k = 0; k < line.size(); ++k) {
-      const Vec3& p = in.points[line[k]];
-      double best = std::numeric_limits<double>::infinity();
-      int closest = -1;
-      grid.near(p, [&](int v) {
-        double d = (g->x[v] - p).norm();
-        for (int w : g->adj[v]) d = std::min(d, segmentDistance(p, g->x[v], g->x[w]));
-        if (d < best) best = d, closest = v;
-      });
-      if (best > kShared * in.radius[line[k]]) break;
-      nearest.push_back(closest);
-      gap.push_back(best);
-    }
-    if (nearest.size() == line.size()) continue;  // wholly along the tree
-    if (nearest.empty())
-      throw std::invalid_argument("line " + std::to_string(order[o]) +
-                                  " does not start on the others (layout of one line per outlet, "
-                                  "each from the inlet)");
-    // The line separates gradually: it branches where its distance to the
-    // tree last was that of the shared stretch (twice its median, plus the
-    // tolerance), not where it leaves the tube.
-    std::vector<double> sorted = gap;
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    const double shared = 2.0 * sorted[sorted.size() / 2] + tolerance;
-    size_t j = gap.size() - 1;
-    while (j > 0 && gap[j] > shared) --j;
-    append(order[o], j + 1, nearest[j]);
-  }
-}
-
-/// Layout (b): the cells joined at shared vertices.
-void joinCells(const CenterlinePolylines& in, const std::vector<int>& vertex, Graph* g) {
-  for (const auto& line : in.lines)
-    for (size_t k = 1; k < line.size(); ++k) g->join(vertex[line[k - 1]], vertex[line[k]]);
 }
 
 /// Connected pieces, largest (by length) first.
@@ -467,10 +294,15 @@ Centerline buildCenterlineTree(const CenterlinePolylines& in, const CenterlineTr
   report->file_points = static_cast<int>(in.points.size());
   Graph g;
   const std::vector<int> vertex = weld(in, &g);
-  report->overlapping = overlapping(in, vertex);
+  // Lines reassembled from tracts are one per outlet by construction (two
+  // centrelines may coincide at a point along a shared path).
+  report->overlapping = in.tracts > 0 || overlapping(in, vertex);
   if (report->overlapping) {
     g = Graph{};
-    mergeOverlapping(in, o.tolerance, &g);
+    mergeOverlapping(in, o.tolerance, &g, report);
+    report->tracts = in.tracts;
+    report->grouped = std::any_of(in.point_group.begin(), in.point_group.end(),
+                                  [](int group) { return group >= 0; });
   } else {
     joinCells(in, vertex, &g);
   }

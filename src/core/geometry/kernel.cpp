@@ -1,3 +1,5 @@
+// The convolution kernel of the vessel surface and its closed-form integrals.
+// Declared and documented in endovascular_sim/geometry/kernel.h.
 #include "endovascular_sim/geometry/kernel.h"
 
 #include <algorithm>

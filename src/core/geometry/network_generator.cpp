@@ -1,3 +1,5 @@
+// A deterministic generator of large vascular networks. Declared and
+// documented in endovascular_sim/geometry/network_generator.h.
 #include "endovascular_sim/geometry/network_generator.h"
 
 #include <algorithm>
@@ -106,8 +108,8 @@ bool proposeBifurcation(const Tip& tip, const NetworkOptions& options, const Cen
   const double r1 = tip.r / std::cbrt(1.0 + gamma * gamma * gamma);
   const double r2 = gamma * r1;
   auto murray = [&](double ra, double rb) {
-    const double cosv = (std::pow(tip.r, 4) + std::pow(ra, 4) - std::pow(rb, 4)) /
-                        (2.0 * tip.r * tip.r * ra * ra);
+    const double cosv =
+        (std::pow(tip.r, 4) + std::pow(ra, 4) - std::pow(rb, 4)) / (2.0 * tip.r * tip.r * ra * ra);
     return std::acos(std::clamp(cosv, -1.0, 1.0));
   };
   const double turn = (90.0 + uni->between(-30.0, 30.0)) * M_PI / 180.0;

@@ -1,3 +1,5 @@
+// Collision detection on the implicit surface (section 2.3 of the paper).
+// Declared and documented in endovascular_sim/geometry/root_finding.h.
 #include "endovascular_sim/geometry/root_finding.h"
 
 #include <algorithm>

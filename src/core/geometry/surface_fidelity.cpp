@@ -1,3 +1,5 @@
+// How closely the convolution surface reproduces a centreline's radii.
+// Declared and documented in endovascular_sim/geometry/surface_fidelity.h.
 #include "endovascular_sim/geometry/surface_fidelity.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// A triangle mesh of the vessel surface g = 0 for display (rviz, files).
+// Declared and documented in endovascular_sim/geometry/surface_mesh.h.
 #include "endovascular_sim/geometry/surface_mesh.h"
 
 #include <cmath>

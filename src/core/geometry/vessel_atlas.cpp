@@ -1,3 +1,6 @@
+// The named vessels of a centreline tree: which vessel a point lies in, how
+// deep along it, and the path of vessels between two of them. Declared and
+// documented in endovascular_sim/geometry/vessel_atlas.h.
 #include "endovascular_sim/geometry/vessel_atlas.h"
 
 #include <algorithm>

@@ -1,3 +1,6 @@
+// The implicit vessel surface: a convolution field of centreline segments (and
+// aneurysm spheres), indexed by a uniform grid over their supports. Declared
+// and documented in endovascular_sim/geometry/vessel_field.h.
 #include "endovascular_sim/geometry/vessel_field.h"
 
 #include <algorithm>

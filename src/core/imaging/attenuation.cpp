@@ -1,3 +1,7 @@
+// Linear attenuation coefficients at the beam's effective energy, from
+// xraylib's photon cross sections (total, coherent scattering included: the
+// NIST XCOM data, Berger & Hubbell) and NIST's tissue compositions. Declared
+// and documented in endovascular_sim/imaging/attenuation.h.
 #include "endovascular_sim/imaging/attenuation.h"
 
 #include <xraylib.h>

@@ -1,3 +1,6 @@
+// The C-arm's projection as a pinhole camera: the X-ray source is the centre
+// of projection, the detector the image plane. Declared and documented in
+// endovascular_sim/imaging/c_arm.h.
 #include "endovascular_sim/imaging/c_arm.h"
 
 #include <cmath>

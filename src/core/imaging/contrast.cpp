@@ -1,3 +1,6 @@
+// Iodinated contrast in the vessels: an injection fills the vessel tree
+// downstream of a point (the catheter's tip) for a while, then washes out.
+// Declared and documented in endovascular_sim/imaging/contrast.h.
 #include "endovascular_sim/imaging/contrast.h"
 
 #include <algorithm>

@@ -1,3 +1,6 @@
+// The detector and its display: from a frame's line integrals to the gray
+// image a clinician sees (mono8). Declared and documented in
+// endovascular_sim/imaging/detector.h.
 #include "endovascular_sim/imaging/detector.h"
 
 #include <algorithm>

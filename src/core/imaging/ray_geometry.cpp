@@ -1,3 +1,7 @@
+// Where a ray runs inside simple solids: the exact intervals the X-ray
+// projection integrates over (devices as cylinders, the body as an elliptic
+// cylinder, the vessels' bounding capsules). Declared and documented in
+// endovascular_sim/imaging/ray_geometry.h.
 #include "endovascular_sim/imaging/ray_geometry.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// The lumen as X-rays cross it. Declared and documented in
+// endovascular_sim/imaging/vessel_projection.h.
 #include "endovascular_sim/imaging/vessel_projection.h"
 
 #include <algorithm>
@@ -59,17 +61,11 @@ std::vector<Capsule> capsulesOf(const Centerline& cl, const std::vector<Aneurysm
   return caps;
 }
 
-}  // namespace
-
-void VesselProjection::build(const VesselField& field, const Centerline& centerline,
-                             const std::vector<AneurysmSpec>& aneurysms, const XrayCamera& camera,
-                             int supersampling, const MotionSnapshot& motion, double margin) {
-  const int s = std::max(1, supersampling);
-  const int rays_per_pixel = s * s;
-  const int w = camera.width, h = camera.height;
-  const std::vector<Capsule> caps = capsulesOf(centerline, aneurysms, margin);
-
-  // Candidate intervals: each capsule's screen rectangle, ray by ray.
+/// Each capsule's screen rectangle, ray by ray (s x s sub-rays per pixel):
+/// the intervals of each ray inside a capsule, sorted by ray and entry.
+std::vector<Candidate> candidatesOf(const std::vector<Capsule>& caps, const XrayCamera& camera,
+                                    int s) {
+  const int rays_per_pixel = s * s, w = camera.width, h = camera.height;
   std::vector<Candidate> candidates;
   for (int k = 0; k < static_cast<int>(caps.size()); ++k) {
     const Capsule& c = caps[k];
@@ -96,13 +92,67 @@ void VesselProjection::build(const VesselField& field, const Centerline& centerl
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
     return a.ray < b.ray || (a.ray == b.ray && a.t0 < b.t0);
   });
+  return candidates;
+}
+
+/// The wall's crossing on [lo, hi] of a ray, where g(t) changes sign:
+/// Illinois to kRootTolerance.
+template <typename G>
+double wallCrossing(const G& g, double lo, double hi, double glo, double ghi) {
+  int side = 0;
+  while (hi - lo > VesselProjection::kRootTolerance) {
+    double t = (lo * ghi - hi * glo) / (ghi - glo);
+    if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
+    const double gt = g(t);
+    if ((gt >= 0.0) == (glo >= 0.0)) {
+      lo = t, glo = gt;
+      if (side == -1) ghi *= 0.5;
+      side = -1;
+    } else {
+      hi = t, ghi = gt;
+      if (side == 1) glo *= 0.5;
+      side = 1;
+    }
+  }
+  return 0.5 * (lo + hi);
+}
+
+/// Calls inside(enter, leave) for each stretch of [t0, t1] where g >= 0
+/// (the lumen), marching by `step` and refining each crossing.
+template <typename G, typename F>
+void lumenStretches(const G& g, double t0, double t1, double step, F&& inside) {
+  double ta = t0, ga = g(ta);
+  double enter = ga >= 0.0 ? ta : -1.0;
+  while (ta < t1) {
+    const double tb = std::min(t1, ta + step);
+    const double gb = g(tb);
+    if ((ga >= 0.0) != (gb >= 0.0)) {
+      const double root = wallCrossing(g, ta, tb, ga, gb);
+      if (gb >= 0.0) {
+        enter = root;
+      } else if (enter >= 0.0) {
+        inside(enter, root);
+        enter = -1.0;
+      }
+    }
+    ta = tb, ga = gb;
+  }
+  if (enter >= 0.0) inside(enter, t1);  // the bound ended inside (should not happen)
+}
+
+}  // namespace
+
+void VesselProjection::build(const VesselField& field, const Centerline& centerline,
+                             const std::vector<AneurysmSpec>& aneurysms, const XrayCamera& camera,
+                             int supersampling, const MotionSnapshot& motion, double margin) {
+  const int s = std::max(1, supersampling);
+  const int rays_per_pixel = s * s;
+  const int w = camera.width;
+  const std::vector<Capsule> caps = capsulesOf(centerline, aneurysms, margin);
+  const std::vector<Candidate> candidates = candidatesOf(caps, camera, s);
 
   // March the field along each ray's merged intervals.
   evaluations_ = 0;
-  auto g = [&](const Vec3& p) {
-    ++evaluations_;
-    return field.evaluate(p, 0.0, motion).value;
-  };
   std::vector<std::map<int, double>> per_pixel;  // only pixels with candidates
   std::vector<long> pixel_of;
   const double weight = 1.0 / rays_per_pixel;
@@ -115,11 +165,16 @@ void VesselProjection::build(const VesselField& field, const Centerline& centerl
     const int j = static_cast<int>(ray % rays_per_pixel);
     const Vec3 d =
         camera.ray(pixel % w + ((j % s + 0.5) / s - 0.5), pixel / w + ((j / s + 0.5) / s - 0.5));
+    auto g = [&](double t) {
+      ++evaluations_;
+      return field.evaluate(camera.source + t * d, 0.0, motion).value;
+    };
     if (pixel_of.empty() || pixel_of.back() != pixel) {
       pixel_of.push_back(pixel);
       per_pixel.emplace_back();
     }
     std::map<int, double>& pieces = per_pixel.back();
+    // A stretch inside goes to the segment of the capsule nearest its middle.
     auto attribute = [&](double ta, double tb) {
       const Vec3 mid = camera.source + 0.5 * (ta + tb) * d;
       int best = candidates[i].capsule;
@@ -131,58 +186,28 @@ void VesselProjection::build(const VesselField& field, const Centerline& centerl
       pieces[caps[best].segment] += (tb - ta) * weight;
     };
     for (size_t k = i; k < end;) {
-      // A run of overlapping intervals, and the finest radius among them.
-      double t0 = candidates[k].t0, t1 = candidates[k].t1;
+      // A run of overlapping intervals, marched at half the finest radius among them.
+      double t1 = candidates[k].t1;
       double rho = caps[candidates[k].capsule].rho;
       size_t m = k + 1;
       for (; m < end && candidates[m].t0 <= t1; ++m) {
         t1 = std::max<double>(t1, candidates[m].t1);
         rho = std::min(rho, caps[candidates[m].capsule].rho);
       }
-      const double step = 0.5 * rho;
-      double ta = t0, ga = g(camera.source + ta * d);
-      double enter = ga >= 0.0 ? ta : -1.0;
-      while (ta < t1) {
-        const double tb = std::min(t1, ta + step);
-        const double gb = g(camera.source + tb * d);
-        if ((ga >= 0.0) != (gb >= 0.0)) {
-          // Illinois on [ta, tb] for the crossing.
-          double lo = ta, hi = tb, glo = ga, ghi = gb;
-          int side = 0;
-          while (hi - lo > kRootTolerance) {
-            double t = (lo * ghi - hi * glo) / (ghi - glo);
-            if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
-            const double gt = g(camera.source + t * d);
-            if ((gt >= 0.0) == (glo >= 0.0)) {
-              lo = t, glo = gt;
-              if (side == -1) ghi *= 0.5;
-              side = -1;
-            } else {
-              hi = t, ghi = gt;
-              if (side == 1) glo *= 0.5;
-              side = 1;
-            }
-          }
-          const double root = 0.5 * (lo + hi);
-          if (gb >= 0.0) {
-            enter = root;
-          } else if (enter >= 0.0) {
-            attribute(enter, root);
-            enter = -1.0;
-          }
-        }
-        ta = tb, ga = gb;
-      }
-      if (enter >= 0.0) attribute(enter, t1);  // the bound ended inside (should not happen)
+      lumenStretches(g, candidates[k].t0, t1, 0.5 * rho, attribute);
       k = m;
     }
     i = end;
   }
+  pack(per_pixel, pixel_of, static_cast<long>(w) * camera.height);
+}
 
-  offset_.assign(static_cast<size_t>(w) * h + 1, 0);
+void VesselProjection::pack(const std::vector<std::map<int, double>>& per_pixel,
+                            const std::vector<long>& pixel_of, long pixels) {
+  offset_.assign(static_cast<size_t>(pixels) + 1, 0);
   pieces_.clear();
   size_t next = 0;
-  for (long p = 0; p < static_cast<long>(w) * h; ++p) {
+  for (long p = 0; p < pixels; ++p) {
     offset_[p] = static_cast<long>(pieces_.size());
     if (next < pixel_of.size() && pixel_of[next] == p) {
       for (const auto& [segment, length] : per_pixel[next])

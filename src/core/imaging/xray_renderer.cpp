@@ -1,3 +1,5 @@
+// Virtual fluoroscopy. Declared and documented in
+// endovascular_sim/imaging/xray_renderer.h.
 #include "endovascular_sim/imaging/xray_renderer.h"
 
 #include <algorithm>

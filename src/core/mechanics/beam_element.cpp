@@ -1,3 +1,5 @@
+// Co-rotational Timoshenko beam element with two 6-DOF nodes. Declared and
+// documented in endovascular_sim/mechanics/beam_element.h.
 #include "endovascular_sim/mechanics/beam_element.h"
 
 #include "endovascular_sim/mechanics/so3.h"
@@ -35,6 +37,9 @@ void evaluateBeamElement(const BeamElementRest& rest, const Vec3& x1, const Mat3
   evaluateBeamElement(rest, x1, Quat(R1), x2, Quat(R2), with_stiffness, out);
 }
 
+// One function of about 85 lines: strain, gradient and tangent share the
+// blocks (Rm, P, Q, G) of one derivation; split, each part would recompute or
+// pass them all.
 void evaluateBeamElement(const BeamElementRest& rest, const Vec3& x1, const Quat& q1,
                          const Vec3& x2, const Quat& q2, bool with_stiffness,
                          BeamElementEval* out) {

@@ -1,3 +1,6 @@
+// Material and hollow circular cross-section of a beam, and the stiffnesses
+// derived from them. Declared and documented in
+// endovascular_sim/mechanics/beam_section.h.
 #include "endovascular_sim/mechanics/beam_section.h"
 
 #include <cmath>

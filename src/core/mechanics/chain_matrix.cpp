@@ -1,3 +1,6 @@
+// Symmetric block-tridiagonal matrix with 6x6 blocks: the system matrix of a
+// chain of 6-DOF nodes. Declared and documented in
+// endovascular_sim/mechanics/chain_matrix.h.
 #include "endovascular_sim/mechanics/chain_matrix.h"
 
 namespace evsim {

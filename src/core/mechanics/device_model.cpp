@@ -1,3 +1,6 @@
+// A flexible device (guidewire, catheter, coil) as a chain of beam elements:
+// its description, and the immutable model built from it. Declared and
+// documented in endovascular_sim/mechanics/device_model.h.
 #include "endovascular_sim/mechanics/device_model.h"
 
 #include <cmath>

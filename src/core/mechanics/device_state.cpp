@@ -1,3 +1,5 @@
+// The changing state of one device (part of the simulation Data). Declared and
+// documented in endovascular_sim/mechanics/device_state.h.
 #include "endovascular_sim/mechanics/device_state.h"
 
 namespace evsim {

@@ -1,3 +1,6 @@
+// What a hand or a robot feels at the access point: the force and torque the
+// drive applies to impose the commanded insertion and rotation. Declared and
+// documented in endovascular_sim/mechanics/drive_wrench.h.
 #include "endovascular_sim/mechanics/drive_wrench.h"
 
 #include <algorithm>

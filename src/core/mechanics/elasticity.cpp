@@ -1,3 +1,5 @@
+// Elastic energy, forces and tangent stiffness of a whole device. Declared and
+// documented in endovascular_sim/mechanics/elasticity.h.
 #include "endovascular_sim/mechanics/elasticity.h"
 
 #include "endovascular_sim/mechanics/beam_element.h"

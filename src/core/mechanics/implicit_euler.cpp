@@ -1,3 +1,5 @@
+// Free motion of a device over one time step, linearised implicit Euler.
+// Declared and documented in endovascular_sim/mechanics/implicit_euler.h.
 #include "endovascular_sim/mechanics/implicit_euler.h"
 
 #include <algorithm>

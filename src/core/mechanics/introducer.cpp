@@ -1,3 +1,5 @@
+// Insertion and rotation at the proximal end. Declared and documented in
+// endovascular_sim/mechanics/introducer.h.
 #include "endovascular_sim/mechanics/introducer.h"
 
 #include <algorithm>

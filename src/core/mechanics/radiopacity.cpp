@@ -1,3 +1,7 @@
+// What a device is made of, as X-rays see it: the radiopaque materials a
+// device section or a marker band may name, by elemental composition and
+// density. Declared and documented in
+// endovascular_sim/mechanics/radiopacity.h.
 #include "endovascular_sim/mechanics/radiopacity.h"
 
 namespace evsim {

@@ -1,3 +1,5 @@
+// The introducer sheath's hold on the element that is leaving it. Declared and
+// documented in endovascular_sim/mechanics/sheath_support.h.
 #include "endovascular_sim/mechanics/sheath_support.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// Rotation group helpers. Declared and documented in
+// endovascular_sim/mechanics/so3.h.
 #include "endovascular_sim/mechanics/so3.h"
 
 #include <cmath>

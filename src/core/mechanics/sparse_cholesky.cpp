@@ -1,3 +1,6 @@
+// Sparse Cholesky factorisation of a symmetric positive definite matrix with
+// SuiteSparse CHOLMOD. Declared and documented in
+// endovascular_sim/mechanics/sparse_cholesky.h.
 #include "endovascular_sim/mechanics/sparse_cholesky.h"
 
 #include <cholmod.h>

@@ -1,3 +1,7 @@
+// Static equilibrium of a device under nodal loads with its first nodes
+// clamped: Newton steps on the exact residual with the consistent tangent
+// (Gauss-Newton where that is not positive definite) and load stepping.
+// Declared and documented in endovascular_sim/mechanics/static_equilibrium.h.
 #include "endovascular_sim/mechanics/static_equilibrium.h"
 
 #include "endovascular_sim/mechanics/chain_matrix.h"

@@ -1,3 +1,7 @@
+// A patient's centreline from a VTK PolyData file (VMTK `vmtkcenterlines`,
+// SimVascular): `.vtp` (XML: ascii, binary, zlib-compressed, appended) or
+// legacy `.vtk`, read by VTK's own readers. Declared and documented in
+// endovascular_sim/scene/centerline_vtk.h.
 #include "endovascular_sim/scene/centerline_vtk.h"
 
 #include <vtkCellArray.h>
@@ -11,8 +15,10 @@
 #include <vtkXMLFileReadTester.h>
 #include <vtkXMLPolyDataReader.h>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
+#include <sstream>
 
 #include "endovascular_sim/core/file_path.h"
 #include "endovascular_sim/core/load_error.h"
@@ -102,6 +108,71 @@ std::vector<int> branchIds(vtkPolyData* data, const std::vector<vtkIdType>& cell
   return {};
 }
 
+/// A cell-data array of one component, or null.
+vtkDataArray* cellArray(vtkPolyData* data, const char* name) {
+  vtkDataArray* a = data->GetCellData()->GetArray(name);
+  return a && a->GetNumberOfComponents() == 1 ? a : nullptr;
+}
+
+/// `vmtkbranchextractor`'s output: each centreline cut into tracts (cells
+/// with CenterlineIds and TractIds, each with its own points, consecutive
+/// tracts meeting at an interpolated split point), the tracts of one vessel
+/// grouped across centrelines by GroupIds, a bifurcation's tracts marked by
+/// Blanking. Reassembles one line per centreline (layout a), each point
+/// with its tract's group (-1 blanked or no groups). False when the file
+/// has no tracts.
+bool reassembleTracts(vtkPolyData* data, const std::vector<vtkIdType>& cells,
+                      const std::string& path, CenterlinePolylines* out) {
+  vtkDataArray* centerline = cellArray(data, "CenterlineIds");
+  vtkDataArray* tract = cellArray(data, "TractIds");
+  if (!centerline || !tract) return false;
+  vtkDataArray* group = cellArray(data, "GroupIds");
+  vtkDataArray* blanking = cellArray(data, "Blanking");
+  std::map<int, std::map<int, size_t>> tracts;  // centreline -> tract -> line
+  for (size_t l = 0; l < cells.size(); ++l) {
+    const int c = static_cast<int>(centerline->GetTuple1(cells[l]));
+    const int t = static_cast<int>(tract->GetTuple1(cells[l]));
+    if (!tracts[c].emplace(t, l).second)
+      fail(path, "centreline " + std::to_string(c) + " has two tracts " + std::to_string(t) +
+                     " (CenterlineIds, TractIds)");
+  }
+  std::vector<std::vector<int>> lines;
+  std::vector<int> ids;
+  out->point_group.assign(out->points.size(), -1);
+  for (const auto& [c, by_tract] : tracts) {
+    std::vector<int> line;
+    for (const auto& [t, l] : by_tract) {
+      const std::vector<int>& cell = out->lines[l];
+      if (cell.empty()) continue;
+      const bool blanked = blanking && blanking->GetTuple1(cells[l]) != 0.0;
+      const int g = group && !blanked ? static_cast<int>(group->GetTuple1(cells[l])) : -1;
+      size_t from = 0;
+      if (!line.empty()) {
+        const double gap = (out->points[cell[0]] - out->points[line.back()]).norm();
+        const double r = out->radius[line.back()];
+        if (gap > r) {
+          std::ostringstream why;
+          why << "centreline " << c << ": tract " << t << " starts " << gap / r
+              << " radii from where the one before it ends (the tracts of a centreline follow "
+                 "each other)";
+          fail(path, why.str());
+        }
+        from = gap <= 1e-3 * r ? 1 : 0;  // the split point, written by both tracts
+      }
+      for (size_t k = from; k < cell.size(); ++k) {
+        line.push_back(cell[k]);
+        out->point_group[cell[k]] = g;
+      }
+      ++out->tracts;
+    }
+    lines.push_back(line);
+    ids.push_back(c);
+  }
+  out->lines = lines;
+  out->branch_id = ids;
+  return true;
+}
+
 }  // namespace
 
 bool isVtkCenterlinePath(const std::string& path) {
@@ -151,6 +222,10 @@ CenterlinePolylines readVtkPolylines(const std::string& path, const VtkCenterlin
     cells.push_back(first_line + c);
   }
   out.branch_id = branchIds(data, cells);
+  // Radius checks before the tracts are joined (their gaps are in radii).
+  for (vtkIdType i = 0; i < n; ++i)
+    if (!(std::isfinite(out.radius[i]) && out.radius[i] > 0.0)) return out;
+  reassembleTracts(data, cells, path, &out);
   return out;
 }
 

@@ -1,3 +1,5 @@
+// Device files: URDF (read with urdfdom) plus an endovascular_sim extension.
+// Declared and documented in endovascular_sim/scene/device_file.h.
 #include "endovascular_sim/scene/device_file.h"
 
 #include <console_bridge/console.h>
@@ -201,6 +203,43 @@ struct UrdfMessages : console_bridge::OutputHandler {
   }
 };
 
+/// The URDF as urdfdom reads it. urdfdom reports through console_bridge:
+/// its messages become the error's text instead of lines on stderr.
+urdf::ModelInterfaceSharedPtr parseWithUrdfdom(const std::string& path, const std::string& text,
+                                               const TiXmlElement* robot) {
+  UrdfMessages messages;
+  console_bridge::useOutputHandler(&messages);
+  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text);
+  console_bridge::restorePreviousOutputHandler();
+  if (!model)
+    throw LoadError(path, robot->Row(), "robot",
+                    "urdfdom rejected the URDF: " +
+                        (messages.text.empty() ? std::string("(no reason given)") : messages.text));
+  return model;
+}
+
+/// `<evsim_device>`: the drive's limits, Rayleigh damping, the detachable
+/// section (after the sections are read).
+void readDeviceElement(const std::string& path, const TiXmlElement* robot, DeviceSpec* spec) {
+  const TiXmlElement* device = robot->FirstChildElement("evsim_device");
+  if (!device) throw LoadError(path, robot->Row(), "evsim_device", "is missing");
+  AttributeReader d(path, device, "evsim_device/");
+  spec->max_insertion_speed = d.positive("max_insertion_speed");
+  spec->max_rotation_speed = d.positive("max_rotation_speed");
+  spec->rayleigh_mass = d.nonNegative("rayleigh_mass", 0.0);
+  spec->rayleigh_stiffness = d.nonNegative("rayleigh_stiffness", 0.0);
+  const char* cut = device->Attribute("detach_section");
+  if (!cut) return;
+  spec->detach_section = cut;
+  const auto& sections = spec->sections;
+  if (sections.size() < 2 || sections.front().name == spec->detach_section ||
+      std::none_of(sections.begin(), sections.end(),
+                   [&](const DeviceSectionSpec& s) { return s.name == spec->detach_section; }))
+    d.fail("detach_section", "'" + spec->detach_section +
+                                 "' must name a link after the first (the part that detaches "
+                                 "from the pusher)");
+}
+
 }  // namespace
 
 DeviceSpec loadDeviceFile(const std::string& path) {
@@ -213,16 +252,7 @@ DeviceSpec loadDeviceFile(const std::string& path) {
   if (!robot || std::string(robot->Value()) != "robot")
     throw LoadError(path, robot ? robot->Row() : 0, "robot", "the root element must be <robot>");
 
-  // urdfdom reports through console_bridge: its messages become the error's
-  // text instead of lines on stderr.
-  UrdfMessages messages;
-  console_bridge::useOutputHandler(&messages);
-  const urdf::ModelInterfaceSharedPtr urdf_model = urdf::parseURDF(text);
-  console_bridge::restorePreviousOutputHandler();
-  if (!urdf_model)
-    throw LoadError(path, robot->Row(), "robot",
-                    "urdfdom rejected the URDF: " +
-                        (messages.text.empty() ? std::string("(no reason given)") : messages.text));
+  const urdf::ModelInterfaceSharedPtr urdf_model = parseWithUrdfdom(path, text, robot);
   DeviceSpec spec;
   spec.name = urdf_model->getName();
 
@@ -242,18 +272,24 @@ DeviceSpec loadDeviceFile(const std::string& path) {
 
   // Walk the chain from the root (proximal) link.
   urdf::LinkConstSharedPtr link = urdf_model->getRoot();
+  std::vector<LoadError> problems;  // of every section, then of every marker
   while (link) {
     const auto found = sections.find(link->name);
     if (found == sections.end())
       throw LoadError(path, findLinkElement(robot, link->name)->Row(),
                       "evsim_section[" + link->name + "]",
                       "every link needs an <evsim_section link=\"" + link->name + "\"/>");
-    spec.sections.push_back(readSection(path, robot, found->second, link->name));
+    try {
+      spec.sections.push_back(readSection(path, robot, found->second, link->name));
+    } catch (const LoadError& e) {
+      problems.push_back(e);
+    }
     if (link->child_links.size() > 1)
       throw LoadError(path, findLinkElement(robot, link->name)->Row(), "link[" + link->name + "]",
                       "a device is a chain: this link has several children");
     link = link->child_links.empty() ? nullptr : link->child_links[0];
   }
+  throwLoadErrors(problems);
 
   for (const auto& [name, joint] : urdf_model->joints_)
     if (joint->type != urdf::Joint::FIXED)
@@ -268,25 +304,16 @@ DeviceSpec loadDeviceFile(const std::string& path) {
                         " elements, more than the limit of 100000 a device");
 
   for (auto* e = robot->FirstChildElement("evsim_marker"); e;
-       e = e->NextSiblingElement("evsim_marker"))
-    spec.markers.push_back(readMarker(path, e, spec));
-
-  const TiXmlElement* device = robot->FirstChildElement("evsim_device");
-  if (!device) throw LoadError(path, robot->Row(), "evsim_device", "is missing");
-  AttributeReader d(path, device, "evsim_device/");
-  spec.max_insertion_speed = d.positive("max_insertion_speed");
-  spec.max_rotation_speed = d.positive("max_rotation_speed");
-  spec.rayleigh_mass = d.nonNegative("rayleigh_mass", 0.0);
-  spec.rayleigh_stiffness = d.nonNegative("rayleigh_stiffness", 0.0);
-  if (const char* cut = device->Attribute("detach_section")) {
-    spec.detach_section = cut;
-    if (spec.sections.size() < 2 || spec.sections.front().name == spec.detach_section ||
-        std::none_of(spec.sections.begin(), spec.sections.end(),
-                     [&](const DeviceSectionSpec& s) { return s.name == spec.detach_section; }))
-      d.fail("detach_section", "'" + spec.detach_section +
-                                   "' must name a link after the first (the part that detaches "
-                                   "from the pusher)");
+       e = e->NextSiblingElement("evsim_marker")) {
+    try {
+      spec.markers.push_back(readMarker(path, e, spec));
+    } catch (const LoadError& error) {
+      problems.push_back(error);
+    }
   }
+  throwLoadErrors(problems);
+
+  readDeviceElement(path, robot, &spec);
   return spec;
 }
 

@@ -1,3 +1,6 @@
+// Scene files (YAML): time step, effects, devices and where they enter, and an
+// optional script of commands. Declared and documented in
+// endovascular_sim/scene/scene_file.h.
 #include "endovascular_sim/scene/scene_file.h"
 
 #include <yaml-cpp/yaml.h>
@@ -11,6 +14,7 @@
 #include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/scene/centerline_vtk.h"
 #include "endovascular_sim/scene/device_file.h"
+#include "endovascular_sim/scene/scene_schema.h"
 #include "endovascular_sim/scene/yaml_reader.h"
 #include "scene_sections.h"
 
@@ -380,6 +384,11 @@ void readDevices(const YamlReader& r, const YAML::Node& root, const fs::path& sc
 SceneSpec readSceneFile(const std::string& path) {
   const YamlReader r(path);
   const YAML::Node root = r.load();
+  // The schema first: types, ranges, unknown, duplicate and missing keys.
+  std::vector<LoadError> problems;
+  for (const SchemaProblem& p : checkSceneSchema(root))
+    problems.emplace_back(path, p.line, p.column, p.key, p.what);
+  throwLoadErrors(problems);
   if (!root.IsMap()) r.fail(root, "", "a scene is a YAML map");
   r.keys(root, "",
          {"name", "description", "time_step", "duration", "effects", "gravity", "vessels",
@@ -430,6 +439,10 @@ SceneSpec readSceneFile(const std::string& path) {
 }
 
 }  // namespace
+
+std::vector<SchemaProblem> checkSceneFileSchema(const std::string& path) {
+  return checkSceneSchema(YamlReader(path).load());
+}
 
 SceneSpec loadSceneFile(const std::string& path) {
   try {

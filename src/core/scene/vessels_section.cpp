@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/scene/centerline_scene.h"
 #include "endovascular_sim/scene/centerline_vtk.h"
 #include "scene_sections.h"
 
@@ -26,11 +27,8 @@ namespace {
 
 /// `units`: declared, never guessed (m, cm, mm or um) [m per file unit].
 double readUnits(const YamlReader& r, const YAML::Node& units) {
-  const std::string u = r.text(units, "vessels.units");
-  if (u == "m") return 1.0;
-  if (u == "cm") return 1e-2;
-  if (u == "mm") return 1e-3;
-  if (u == "um") return 1e-6;
+  const double unit = lengthUnit(r.text(units, "vessels.units"));
+  if (unit > 0.0) return unit;
   r.fail(units, "vessels.units", "must be m, cm, mm or um");  // (does not return)
 }
 

@@ -1,3 +1,6 @@
+// Typed access to YAML nodes with errors (LoadError) that name the file, the
+// line and the field. Declared and documented in
+// endovascular_sim/scene/yaml_reader.h.
 #include "endovascular_sim/scene/yaml_reader.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// A navigation baseline. Declared and documented in
+// endovascular_sim/sim/autopilot.h.
 #include "endovascular_sim/sim/autopilot.h"
 
 #include <algorithm>

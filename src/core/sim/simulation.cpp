@@ -1,3 +1,6 @@
+// The simulation: an immutable SceneModel built once per scene, the SimData
+// workspace it steps, and step() — the pipeline of the paper. Declared and
+// documented in endovascular_sim/sim/simulation.h.
 #include "endovascular_sim/sim/simulation.h"
 
 #include <algorithm>

@@ -1,3 +1,7 @@
+// A simulation's state on disk, to resume a run where it was saved (a late
+// failure or a slow phase studied from its step, with other options or another
+// build): `evsim run SCENE --load-state F --save-state G`. Declared and
+// documented in endovascular_sim/sim/state_file.h.
 #include "endovascular_sim/sim/state_file.h"
 
 #include <cmath>

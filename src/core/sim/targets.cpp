@@ -1,3 +1,5 @@
+// Navigation targets: a named vessel the distal tip of a device must reach and
+// stay in. Declared and documented in endovascular_sim/sim/targets.h.
 #include "endovascular_sim/sim/targets.h"
 
 #include <algorithm>
