@@ -169,6 +169,16 @@ void addRender(CLI::App& app, RenderOptions* o) {
                    "after the injection, show its angiogram under the live image");
 }
 
+void addCheck(CLI::App& app, CheckOptions* o) {
+  CLI::App* check = app.add_subcommand(
+      "check", "validate scene, device, centreline and state files without running them");
+  check->add_option("files", o->files, "the files (.yaml, .urdf, .swc, .vtp, .vtk, state)")
+      ->required();
+  check->add_option("--units", o->units,
+                    "units of a .vtp/.vtk centreline (m, cm, mm, um; required for them)");
+  check->add_option("--scene", o->scene, "the scene a state file belongs to");
+}
+
 int dispatch(int argc, char** argv) {
   CLI::App app{"evsim: catheter, guidewire and coil navigation in vessels (no ROS)", "evsim"};
   app.set_version_flag("--version", std::string("evsim ") + EVSIM_VERSION);
@@ -195,14 +205,7 @@ int dispatch(int argc, char** argv) {
   app.add_subcommand("schema",
                      "the scene format's keys (type, unit, default, range, meaning) as Markdown");
   CheckOptions check;
-  CLI::App* check_command = app.add_subcommand(
-      "check", "validate scene, device, centreline and state files without running them");
-  check_command
-      ->add_option("files", check.files, "the files (.yaml, .urdf, .swc, .vtp, .vtk, state)")
-      ->required();
-  check_command->add_option("--units", check.units,
-                            "units of a .vtp/.vtk centreline (m, cm, mm, um; required for them)");
-  check_command->add_option("--scene", check.scene, "the scene a state file belongs to");
+  addCheck(app, &check);
   std::string vessels_scene;
   CenterlineSource vessels_centerline;
   CLI::App* vessels = app.add_subcommand(

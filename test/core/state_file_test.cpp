@@ -150,5 +150,51 @@ TEST(StateFile, ABadFileIsRefusedNamingLineAndFieldAndTheDataIsKept) {
   std::filesystem::remove(bad);
 }
 
+/// Three wrong values in one file (a negative clock, a negative inserted
+/// length, a NaN position): all three, in file order, the data kept.
+TEST(StateFile, EveryWrongValueOfAFileIsReportedAtOnce) {
+  const SceneModel model = loadScene("aneurysm");
+  SimData data = makeData(model);
+  run(model, &data, 50);
+  const std::string good = tempPath("good3.txt");
+  ASSERT_TRUE(saveState(model, data, good));
+  std::vector<std::string> l = readLines(good);
+  ASSERT_EQ(l[2].rfind("clock ", 0), 0u);
+  ASSERT_EQ(l[3].rfind("device ", 0), 0u);
+  ASSERT_EQ(l[4].rfind("node ", 0), 0u);
+  std::vector<std::string> clock, device;  // the records' fields
+  for (const int k : {2, 3}) {
+    std::istringstream fields(l[k]);
+    std::vector<std::string>& out = k == 2 ? clock : device;
+    for (std::string f; fields >> f;) out.push_back(f);
+  }
+  clock[1] = "-1";      // time
+  device[3] = "-0.01";  // inserted length
+  l[2] = l[3] = "";
+  for (const auto& f : clock) l[2] += (l[2].empty() ? "" : " ") + f;
+  for (const auto& f : device) l[3] += (l[3].empty() ? "" : " ") + f;
+  l[4].replace(5, l[4].find(' ', 5) - 5, "nan");  // the first node's x
+  const std::string bad = tempPath("bad3.txt");
+  writeLines(bad, l);
+  SimData target = makeData(model);
+  const std::vector<Vec3> position_before = target.devices[0].position;
+  try {
+    loadState(model, bad, &target);
+    ADD_FAILURE() << "three wrong values were accepted";
+  } catch (const LoadErrors& e) {
+    ASSERT_EQ(e.all().size(), 3u) << e.what();
+    EXPECT_EQ(e.all()[0].line(), 3);
+    EXPECT_EQ(e.all()[0].field(), "time");
+    EXPECT_EQ(e.all()[1].line(), 4);
+    EXPECT_EQ(e.all()[1].field(), "inserted length");
+    EXPECT_EQ(e.all()[2].line(), 5);
+    EXPECT_EQ(e.all()[2].field(), "position");
+    EXPECT_NE(std::string(e.what()).find("(and 2 more"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(target.devices[0].position, position_before);
+  std::filesystem::remove(good);
+  std::filesystem::remove(bad);
+}
+
 }  // namespace
 }  // namespace evsim

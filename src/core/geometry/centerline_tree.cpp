@@ -5,6 +5,7 @@
 
 #include <map>
 #include <numeric>
+#include <sstream>
 #include <stdexcept>
 
 #include "centerline_graph.h"
@@ -23,24 +24,27 @@ void checkInput(const CenterlinePolylines& in) {
   if (in.radius.size() != in.points.size())
     throw std::invalid_argument("the radius array has " + std::to_string(in.radius.size()) +
                                 " values for " + std::to_string(in.points.size()) + " points");
+  // Every bad point at once (the first ten, and how many more).
+  std::vector<std::string> bad;
   for (size_t i = 0; i < in.points.size(); ++i) {
+    std::ostringstream why;
     if (!in.points[i].allFinite())
-      throw std::invalid_argument("point " + std::to_string(i) + " is not finite");
-    if (in.points[i].cwiseAbs().maxCoeff() > kMaxCoordinate)
-      throw std::invalid_argument("point " + std::to_string(i) +
-                                  " lies beyond 10 m of the origin: check the units");
-    if (in.radius[i] > kMaxVesselRadius) {
-      std::ostringstream why;
+      why << "point " << i << " is not finite";
+    else if (in.points[i].cwiseAbs().maxCoeff() > kMaxCoordinate)
+      why << "point " << i << " lies beyond 10 m of the origin: check the units";
+    else if (in.radius[i] > kMaxVesselRadius)
       why << "the radius of point " << i << " is " << in.radius[i]
           << " m, beyond the largest vessel radius (" << kMaxVesselRadius << " m): check the units";
-      throw std::invalid_argument(why.str());
-    }
-    if (!(std::isfinite(in.radius[i]) && in.radius[i] > 0.0)) {
-      std::ostringstream why;
+    else if (!(std::isfinite(in.radius[i]) && in.radius[i] > 0.0))
       why << "the radius of point " << i << " at " << mm(in.points[i]) << " is " << in.radius[i]
           << ": radii must be positive and finite";
-      throw std::invalid_argument(why.str());
-    }
+    if (!why.str().empty()) bad.push_back(why.str());
+  }
+  if (!bad.empty()) {
+    std::string all;
+    for (size_t k = 0; k < bad.size() && k < 10; ++k) all += (k ? "; " : "") + bad[k];
+    if (bad.size() > 10) all += "; and " + std::to_string(bad.size() - 10) + " more";
+    throw std::invalid_argument(all);
   }
   int usable = 0;
   for (const auto& line : in.lines) {

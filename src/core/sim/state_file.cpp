@@ -18,7 +18,10 @@ namespace {
 constexpr int kVersion = 2;  // 1: without the sleep fields of `clock` (read as awake)
 
 /// One record per line: a key, then fields read in order; every error names
-/// the file, the line and the field.
+/// the file, the line and the field. A wrong value that leaves the file
+/// readable (not a finite number, out of its range) is kept and reading goes
+/// on, so that finish() reports every such problem at once; a broken
+/// structure (a missing or unexpected record, a count) stops at once.
 class Reader {
  public:
   explicit Reader(const std::string& path) : path_(path), in_(path) {
@@ -40,8 +43,9 @@ class Reader {
     std::string token = word(field);
     char* end = nullptr;
     const double v = std::strtod(token.c_str(), &end);
-    if (*end != '\0' || !std::isfinite(v)) fail(field, "not a finite number: '" + token + "'");
-    return v;
+    if (*end == '\0' && std::isfinite(v)) return v;
+    problem(field, "not a finite number: '" + token + "'");
+    return 0.0;
   }
 
   long integer(const std::string& field, long lo, long hi) {
@@ -73,14 +77,27 @@ class Reader {
   }
 
   [[noreturn]] void fail(const std::string& field, const std::string& message, int line = -1) {
-    throw LoadError(path_, line < 0 ? line_ : line, field, message);
+    problems_.emplace_back(path_, line < 0 ? line_ : line, field, message);
+    throwLoadErrors(problems_);
+    throw problems_.back();  // (not reached)
   }
+
+  /// A wrong value on the current line: kept, reading goes on.
+  void problem(const std::string& field, const std::string& message) {
+    if (problems_.size() < 100) problems_.emplace_back(path_, line_, field, message);
+  }
+  /// Whether the current line has a kept problem (its other checks would
+  /// read the placeholder).
+  bool lineHasProblem() const { return !problems_.empty() && problems_.back().line() == line_; }
+  /// Throws every kept problem (LoadErrors when several).
+  void finish() { throwLoadErrors(problems_); }
 
  private:
   std::string path_;
   std::ifstream in_;
   std::istringstream fields_;
   int line_{0};
+  std::vector<LoadError> problems_;
 };
 
 void writeVec3(std::FILE* f, const Vec3& v) {
@@ -147,7 +164,7 @@ struct LoadedState {
 void readClock(const SceneModel& model, long version, Reader* r, LoadedState* next) {
   r->record("clock");
   next->time = r->real("time");
-  if (next->time < 0.0) r->fail("time", "must not be negative");
+  if (next->time < 0.0) r->problem("time", "must not be negative");
   next->step = r->integer("step", 0, 1L << 50);
   next->next_script_entry = static_cast<size_t>(
       r->integer("next script entry", 0, static_cast<long>(model.script.size())));
@@ -169,8 +186,8 @@ void readDevice(const SceneModel& model, int d, Reader* r, DeviceState* s) {
   r->integer("nodes", nodes, nodes);
   s->inserted_length = r->real("inserted length");
   if (s->inserted_length < 0.0 || s->inserted_length > model.devices[d].length * (1.0 + 1e-12))
-    r->fail("inserted length", "must lie in [0, " + std::to_string(model.devices[d].length) +
-                                   "] m (the device's length)");
+    r->problem("inserted length", "must lie in [0, " + std::to_string(model.devices[d].length) +
+                                      "] m (the device's length)");
   s->rotation_angle = r->real("rotation angle");
   s->released = r->integer("released", 0, 1) == 1;
   s->cut_element = static_cast<int>(r->integer("cut element", -1, nodes - 2));
@@ -181,7 +198,8 @@ void readDevice(const SceneModel& model, int d, Reader* r, DeviceState* s) {
     const double w = r->real("rotation"), x = r->real("rotation"), y = r->real("rotation"),
                  z = r->real("rotation");
     s->rotation[i] = Quat(w, x, y, z);
-    if (std::abs(s->rotation[i].norm() - 1.0) > 1e-9) r->fail("rotation", "not a unit quaternion");
+    if (!r->lineHasProblem() && std::abs(s->rotation[i].norm() - 1.0) > 1e-9)
+      r->problem("rotation", "not a unit quaternion");
     s->velocity[i] = r->vec3("velocity");
     s->angular_velocity[i] = r->vec3("angular velocity");
     r->end("node");
@@ -196,7 +214,7 @@ void readCommand(const SceneModel& model, int d, Reader* r, DriveCommand* c) {
   c->insertion = r->real("insertion");
   c->rotation = r->real("rotation");
   const std::string why = validateDriveCommand(*c, model.devices[d]);
-  if (!why.empty()) r->fail("command", why);
+  if (!why.empty() && !r->lineHasProblem()) r->problem("command", why);
   r->end("command");
 }
 
@@ -258,6 +276,7 @@ void loadState(const SceneModel& model, const std::string& path, SimData* data) 
   for (int d = 0; d < nd; ++d) readDevice(model, d, &r, &next.devices[d]);
   for (int d = 0; d < nd; ++d) readCommand(model, d, &r, &next.commands[d]);
   next.contacts = readContacts(model, &r);
+  r.finish();  // every wrong value, before anything of the data changes
   data->devices.swap(next.devices);
   data->commands.swap(next.commands);
   data->contacts.swap(next.contacts);
