@@ -63,15 +63,22 @@ TEST(StateFile, AResumedRunMatchesTheUninterruptedOneBitForBit) {
   std::filesystem::remove(path);
 }
 
+/// The lines of a state of `model` saved after 50 steps (the file removed).
+std::vector<std::string> savedStateLines(const SceneModel& model) {
+  SimData data = makeData(model);
+  run(model, &data, 50);
+  const std::string good = tempPath("good.txt");
+  EXPECT_TRUE(saveState(model, data, good));
+  std::vector<std::string> lines = readLines(good);
+  std::filesystem::remove(good);
+  return lines;
+}
+
 /// Each kind of damage is refused with the line and field, and the data
 /// loaded into stays as it was.
 TEST(StateFile, ABadFileIsRefusedNamingLineAndFieldAndTheDataIsKept) {
   const SceneModel model = loadScene("aneurysm");
-  SimData data = makeData(model);
-  run(model, &data, 50);
-  const std::string good = tempPath("good.txt");
-  ASSERT_TRUE(saveState(model, data, good));
-  const std::vector<std::string> lines = readLines(good);
+  const std::vector<std::string> lines = savedStateLines(model);
   ASSERT_GT(lines.size(), 8u);
   ASSERT_EQ(lines[4].rfind("node ", 0), 0u);
 
@@ -146,7 +153,6 @@ TEST(StateFile, ABadFileIsRefusedNamingLineAndFieldAndTheDataIsKept) {
     EXPECT_EQ(target.devices[0].position, position_before) << damage.what;
   }
   EXPECT_THROW(loadState(model, tempPath("absent.txt"), &target), LoadError);
-  std::filesystem::remove(good);
   std::filesystem::remove(bad);
 }
 
@@ -154,11 +160,7 @@ TEST(StateFile, ABadFileIsRefusedNamingLineAndFieldAndTheDataIsKept) {
 /// length, a NaN position): all three, in file order, the data kept.
 TEST(StateFile, EveryWrongValueOfAFileIsReportedAtOnce) {
   const SceneModel model = loadScene("aneurysm");
-  SimData data = makeData(model);
-  run(model, &data, 50);
-  const std::string good = tempPath("good3.txt");
-  ASSERT_TRUE(saveState(model, data, good));
-  std::vector<std::string> l = readLines(good);
+  std::vector<std::string> l = savedStateLines(model);
   ASSERT_EQ(l[2].rfind("clock ", 0), 0u);
   ASSERT_EQ(l[3].rfind("device ", 0), 0u);
   ASSERT_EQ(l[4].rfind("node ", 0), 0u);
@@ -192,7 +194,6 @@ TEST(StateFile, EveryWrongValueOfAFileIsReportedAtOnce) {
     EXPECT_NE(std::string(e.what()).find("(and 2 more"), std::string::npos) << e.what();
   }
   EXPECT_EQ(target.devices[0].position, position_before);
-  std::filesystem::remove(good);
   std::filesystem::remove(bad);
 }
 

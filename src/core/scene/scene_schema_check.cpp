@@ -85,6 +85,35 @@ std::string nameOf(const std::string& path) {
   return dot == std::string::npos ? path : path.substr(dot + 1);
 }
 
+/// How a type is named in the reference table and in an error message.
+struct TypeWords {
+  std::string table, message;
+};
+TypeWords typeWords(SchemaType t, const SchemaEntry& e) {
+  switch (t) {
+    case SchemaType::kMap:
+      return {"map", "a map"};
+    case SchemaType::kList:
+      return {"list", "a list"};
+    case SchemaType::kNumber:
+      return {"number", "a number"};
+    case SchemaType::kInteger:
+      return {"integer", "a whole number"};
+    case SchemaType::kBool:
+      return {"bool", "true or false"};
+    case SchemaType::kText:
+      return {"string", "a string"};
+    case SchemaType::kChoice:
+      return {list(e.choices), "one of " + list(e.choices)};
+    case SchemaType::kVector3:
+      return {"[x, y, z]", "a list of 3 numbers"};
+    case SchemaType::kIdNames:
+      return {"{id: name}", "a map of branch ids to vessel names"};
+    default:
+      return {"", "absent"};
+  }
+}
+
 class Checker {
  public:
   Checker() {
@@ -128,8 +157,9 @@ class Checker {
     if (e.alternative != SchemaType::kNone && fits(v, e.alternative))
       return deep(v, e, e.alternative, key);
     add(v, key,
-        "must be " + describe(e.type, e) +
-            (e.alternative != SchemaType::kNone ? " or " + describe(e.alternative, e) : ""));
+        "must be " + typeWords(e.type, e).message +
+            (e.alternative != SchemaType::kNone ? " or " + typeWords(e.alternative, e).message
+                                                : ""));
   }
 
   std::vector<SchemaProblem> problems;
@@ -148,31 +178,6 @@ class Checker {
         return false;
       default:
         return v.IsScalar();
-    }
-  }
-
-  static std::string describe(SchemaType t, const SchemaEntry& e) {
-    switch (t) {
-      case SchemaType::kMap:
-        return "a map";
-      case SchemaType::kList:
-        return "a list";
-      case SchemaType::kNumber:
-        return "a number";
-      case SchemaType::kInteger:
-        return "a whole number";
-      case SchemaType::kBool:
-        return "true or false";
-      case SchemaType::kText:
-        return "a string";
-      case SchemaType::kChoice:
-        return "one of " + list(e.choices);
-      case SchemaType::kVector3:
-        return "a list of 3 numbers";
-      case SchemaType::kIdNames:
-        return "a map of branch ids to vessel names";
-      default:
-        return "absent";
     }
   }
 
@@ -264,30 +269,7 @@ class Checker {
 };
 
 std::string typeName(const SchemaEntry& e) {
-  auto one = [&](SchemaType t) -> std::string {
-    switch (t) {
-      case SchemaType::kMap:
-        return "map";
-      case SchemaType::kList:
-        return "list";
-      case SchemaType::kNumber:
-        return "number";
-      case SchemaType::kInteger:
-        return "integer";
-      case SchemaType::kBool:
-        return "bool";
-      case SchemaType::kText:
-        return "string";
-      case SchemaType::kChoice:
-        return list(e.choices);
-      case SchemaType::kVector3:
-        return "[x, y, z]";
-      case SchemaType::kIdNames:
-        return "{id: name}";
-      default:
-        return "";
-    }
-  };
+  auto one = [&](SchemaType t) { return typeWords(t, e).table; };
   return one(e.type) + (e.alternative != SchemaType::kNone ? " or " + one(e.alternative) : "");
 }
 

@@ -87,7 +87,7 @@ class Reader {
     if (problems_.size() < 100) problems_.emplace_back(path_, line_, field, message);
   }
   /// Whether the current line has a kept problem (its other checks would
-  /// read the placeholder).
+  /// see the 0 read in place of the wrong value).
   bool lineHasProblem() const { return !problems_.empty() && problems_.back().line() == line_; }
   /// Throws every kept problem (LoadErrors when several).
   void finish() { throwLoadErrors(problems_); }
