@@ -16,6 +16,12 @@
 
 namespace evsim {
 
+/// Lengths compared with a device's length (`inserted_length`) agree within
+/// this relative tolerance: a device's length is a sum of its sections', so
+/// a full insertion written as the nominal length may exceed it by
+/// round-off, and is valid.
+constexpr double kLengthTolerance = 1e-9;
+
 enum class SchemaType {
   kNone,     // (no alternative)
   kMap,      // a map of the keys below it

@@ -25,7 +25,6 @@ namespace fs = std::filesystem;
 
 constexpr double kMaxTimeStep = 0.04;       // [s] one step per 25 Hz frame
 constexpr double kMaxDuration = 3600.0;     // [s] a scripted procedure
-constexpr double kLengthTolerance = 1e-9;   // relative, on lengths compared with a device's
 constexpr double kMinElementLength = 1e-5;  // [m] max_element_length's floor
 constexpr double kMaxDeviceElements = 1e5;  // per device, after refinement
 

@@ -122,7 +122,9 @@ std::vector<SchemaEntry> makeSchema() {
           .choices({"inlet"}),
       Key("devices[].insertion_direction", T::kVector3, "the introducer's axis, into the body"),
       Key("devices[].up", T::kVector3, "fixes the introducer frame's z axis").def("[0, 0, 1]"),
-      Key("devices[].inserted_length", T::kNumber, "inserted at the start, at most its length")
+      Key("devices[].inserted_length", T::kNumber,
+          "inserted at the start, at most its length (within a relative 1e-9: a full "
+          "insertion written as the nominal length is valid)")
           .unit("m")
           .def("0")
           .in("[]", 0, 1000),
