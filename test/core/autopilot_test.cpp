@@ -94,12 +94,12 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.target); });
 
 // Deep in the generated network: the pair engages the left common and
-// external carotids and the external carotid's second branch, then the
+// external carotids and the external carotid's first branch, then the
 // microwire's small J takes that branch's first daughter (4 bifurcations
 // from the access). Judged against the generated centreline's polyline of
 // the target (the scene's skeleton), not the atlas the autopilot steers by.
 TEST(NetworkNavigation, AMicrowireReachesABranchFourBifurcationsDeep) {
-  const std::string target = "left_external_carotid_2_1";
+  const std::string target = "left_external_carotid_1_1";
   const SceneModel model = loadScene("network_navigation");
   SimData data = makeData(model);
   Autopilot pilot(model, data, target);

@@ -3,7 +3,7 @@
 // the state it sleeps in and the state after it wakes agree; while it
 // sleeps nothing is computed (the gravity counter stands still); a changed
 // command wakes it, a repeated one does not; moving vessels never sleep;
-// the sleep survives a state file.
+// the sleep survives a state file; a target's dwell ends while it sleeps.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -71,6 +71,44 @@ TEST(Sleep, ARestingWireSleepsWhereTheReferenceRestsAndWakesOnACommand) {
   const double gap = largestGap(s, r);
   std::printf("[ metric   ] sleeping and reference runs: %.3g um apart after waking\n", gap * 1e6);
   EXPECT_LT(gap, 1e-6);
+}
+
+// A target's dwell goes on while the scene sleeps: the sleeping run reaches
+// every target of the carotid's named vessels when the reference does, and
+// one of them only after the sleep began (the dwell ends asleep).
+TEST(Sleep, ATargetsDwellEndsWhileTheSceneSleeps) {
+  const double dwell = 10.0;  // [s] the tip is in the left subclavian from 2 s, at rest from 10 s
+  auto withTargets = [&](bool sleep) {
+    SceneSpec spec = loadSceneFile(resolveScenePath("carotid"));
+    spec.sleep.enabled = sleep;
+    const SceneModel plain = buildSceneModel(spec);
+    spec.targets.clear();
+    for (const NamedVessel& v : plain.atlas->vessels()) {
+      TargetSpec t;
+      t.vessel = v.name;
+      t.depth = 0.001;
+      t.dwell = dwell;
+      spec.targets.push_back(t);
+    }
+    return buildSceneModel(spec);
+  };
+  const SceneModel sleepy = withTargets(true), awake = withTargets(false);
+  SimData s = makeData(sleepy), r = makeData(awake);
+  double fell_asleep = -1.0;  // [s]
+  for (long k = 0; k < 16000; ++k) {
+    ASSERT_EQ(step(sleepy, &s), StepStatus::kOk) << s.last_error;
+    ASSERT_EQ(step(awake, &r), StepStatus::kOk) << r.last_error;
+    if (s.asleep && fell_asleep < 0.0) fell_asleep = s.time;
+  }
+  ASSERT_GT(fell_asleep, 0.0);
+  int reached_asleep = 0;
+  for (size_t k = 0; k < s.targets.size(); ++k) {
+    EXPECT_EQ(s.targets[k].reached, r.targets[k].reached) << sleepy.targets[k].spec.vessel;
+    EXPECT_NEAR(s.targets[k].reached_time, r.targets[k].reached_time, 1.5e-3)
+        << sleepy.targets[k].spec.vessel;
+    reached_asleep += s.targets[k].reached && s.targets[k].reached_time > fell_asleep;
+  }
+  EXPECT_GE(reached_asleep, 1) << "asleep from " << fell_asleep << " s";
 }
 
 TEST(Sleep, MovingVesselsNeverSleep) {

@@ -246,6 +246,14 @@ void sleepingStep(SimData* data) {
   for (const Contact& c : data->contacts) data->stats.active_contacts += c.force > 0.0;
 }
 
+/// The targets' dwell at data->time, from the tips where they are.
+void trackTargets(const SceneModel& model, SimData* data) {
+  if (!model.atlas || model.targets.empty()) return;
+  for (std::string& notice : updateTargets(model.targets, data->tips, model.devices, data->devices,
+                                           *model.atlas, data->time, &data->targets))
+    data->notices.push_back(std::move(notice));
+}
+
 }  // namespace
 
 void locateTips(const SceneModel& model, SimData* data) {
@@ -253,10 +261,7 @@ void locateTips(const SceneModel& model, SimData* data) {
   data->tips.resize(data->devices.size());
   for (size_t i = 0; i < data->devices.size(); ++i)
     data->tips[i] = locateInVessels(model, *data, data->devices[i].position.back());
-  if (model.targets.empty()) return;
-  for (std::string& notice : updateTargets(model.targets, data->tips, model.devices, data->devices,
-                                           *model.atlas, data->time, &data->targets))
-    data->notices.push_back(std::move(notice));
+  trackTargets(model, data);
 }
 
 /// The motions a drive cannot impose: a resistance at or beyond its limit.
@@ -467,6 +472,7 @@ StepStatus step(const SceneModel& model, SimData* data) {
     data->time = t_end;
     ++data->step;
     sleepingStep(data);
+    trackTargets(model, data);  // the tips rest where they are: a dwell goes on
     data->stats.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     return StepStatus::kOk;
   }
