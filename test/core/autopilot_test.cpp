@@ -12,6 +12,7 @@
 
 #include "endovascular_sim/core/load_error.h"
 #include "endovascular_sim/geometry/centerline.h"
+#include "lumen_check.h"
 
 namespace evsim {
 namespace {
@@ -57,6 +58,10 @@ void navigate(const SceneModel& model, SimData* data, Autopilot* pilot, double l
     const StepStatus status = stepOrRecover(model, data, &recovered);
     pilot->observe(*data, status != StepStatus::kOk);
     ASSERT_EQ(status, StepStatus::kOk) << data->last_error;
+    // Every point of the wire in the catheter's lumen, checked point by
+    // point (the loop plans one plane per element and side).
+    ASSERT_LE(test::worstLumenExcess(model, *data), 2.0 * model.contact.penetration_tolerance)
+        << "t = " << data->time;
   }
 }
 

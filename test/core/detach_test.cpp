@@ -58,12 +58,17 @@ TEST(Detach, RefusedInsideTheMicrocatheterThenThePusherLeavesTheCoil) {
   }
   const DeviceState& x = data.devices[coil];
   const double pusher_back = (x.position[cut] - pusher_at_detach).norm();
-  // Joined, the junction element would keep its length (2 mm, axially
-  // stiff); cut, the pusher's tip leaves the coil's proximal end behind.
+  // Joined, the junction element would keep its length (2 mm of steel
+  // wire: at the scene's few newtons it stretches by under 1 um); cut, the
+  // pusher's tip leaves the coil's proximal end behind. How far depends on
+  // the coil: packed into the dome, it springs back into the microcatheter
+  // after the detach, its end following the pusher by 0-4.5 mm (measured
+  // with lumen_settle 0.03 to 0.2: junction 2.4-5.2 mm), so the bound is
+  // 100x the joined element's stretch, not a share of the withdrawal.
   const double junction_rest = model.devices[coil].elements[cut].length;
   const double junction = (x.position[cut + 1] - x.position[cut]).norm();
-  EXPECT_NEAR(pusher_back, 0.005, 0.0005);                 // the commanded withdrawal
-  EXPECT_GT(junction, junction_rest + 0.4 * pusher_back);  // joined: junction_rest
+  EXPECT_NEAR(pusher_back, 0.005, 0.0005);    // the commanded withdrawal
+  EXPECT_GT(junction, junction_rest + 1e-4);  // joined: junction_rest
   const double coil_moved = (coilCentroid(x, cut) - coil_at_detach).norm();
   // The cut element stores no energy: the device's energy is its two parts'.
   DeviceState joined = x;

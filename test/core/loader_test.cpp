@@ -72,7 +72,7 @@ TEST_F(Loader, LumenSettleIsReadAndChecked) {
   text.replace(text.find("effects: [gravity]\n"), 19,
                "effects: [gravity]\ncontact: {lumen_settle: 0.01}\n");
   EXPECT_EQ(loadSceneFile(write("scene.yaml", text)).contact.lumen_settle, 0.01);
-  EXPECT_EQ(loadSceneFile(write("plain.yaml", kScene)).contact.lumen_settle, 0.03);
+  EXPECT_EQ(loadSceneFile(write("plain.yaml", kScene)).contact.lumen_settle, 0.1);
   expectNames(
       sceneError("effects: [gravity]\n", "effects: [gravity]\ncontact: {lumen_settle: 2}\n"),
       "scene.yaml", 4, "contact.lumen_settle", "must lie in [1e-4, 1], got 2");

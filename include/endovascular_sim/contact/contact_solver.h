@@ -61,10 +61,10 @@ struct ContactOptions {
   bool detect_on_first_iterate{true};  // with kept contacts, detect on x_t -> x_1, not -> x_f
   bool columns_on_demand{true};        // frictionless status method: W's columns formed as it reads
                                        // them, not the whole W (contact/delassus_columns.h)
-  double lumen_settle{0.03};  // effect 'coaxial': the loop goes on while a point held by the
-                              // lumen's curvature slid more than this fraction of the clearance
-                              // since the loop's anchor: what that leaves is a force below this
-                              // fraction of the contact's (docs/model.md, "Coaxial devices") [-]
+  double lumen_settle{0.1};  // effect 'coaxial': the loop goes on while a point held by the
+                             // lumen's curvature slid more than this fraction of the clearance
+                             // since the loop's anchor: what that leaves is a force below this
+                             // fraction of the contact's (docs/model.md, "Coaxial devices") [-]
   FrictionOptions friction_solver;  // its tolerance and sweep limit
 };
 

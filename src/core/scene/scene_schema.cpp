@@ -206,7 +206,7 @@ std::vector<SchemaEntry> makeSchema() {
       Key("contact.lumen_settle", T::kNumber,
           "effect 'coaxial': the loop goes on while a point held by the lumen's curvature slid "
           "more than this fraction of the clearance")
-          .def("0.03")
+          .def("0.1")
           .in("[]", 1e-4, 1),
       Key("contact.friction_solver", T::kChoice, "effect 'friction': the solver")
           .choices({"newton", "nsgs"})
