@@ -133,6 +133,19 @@ std::vector<Setting> sceneSettings(const SceneSpec& base) {
   for (int loops : {1, 2, 3, 5, 30})
     s.push_back({"activation_loops", std::to_string(loops),
                  contact([loops](ContactOptions* o) { o->max_activation_loops = loops; })});
+  // The wall's curvature term updated in the first loop only, or three
+  // (the default: every loop). It shapes the loop's path, not its answer.
+  for (int loops : {1, 3})
+    s.push_back({"curvature_loops", std::to_string(loops),
+                 contact([loops](ContactOptions* o) { o->curvature_loops = loops; })});
+  const auto& fx = base.effects;  // the lumen's curvature springs: how settled the loop ends
+  if (std::find(fx.begin(), fx.end(), "coaxial") != fx.end())
+    for (double settle : {1e-3, 0.03, 0.3}) {
+      std::ostringstream v;
+      v << settle;
+      s.push_back({"lumen_settle", v.str(),
+                   contact([settle](ContactOptions* o) { o->lumen_settle = settle; })});
+    }
   for (int sub : {0, 2, 8})
     s.push_back({"subdivisions", std::to_string(sub),
                  contact([sub](ContactOptions* o) { o->max_subdivisions = sub; })});
