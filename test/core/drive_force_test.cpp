@@ -11,7 +11,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <limits>
+#include <sstream>
 
 #include "endovascular_sim/sim/simulation.h"
 #include "test_helpers.h"
@@ -199,6 +202,49 @@ TEST(DriveLimit, AWirePushedIntoAClosedTubeStallsAtTheLimit) {
   EXPECT_LT(held.devices[0].inserted_length, commanded - 0.01);
   EXPECT_NEAR(held.drives[0].axial_force, kLimit, 0.05 * kLimit);
   EXPECT_FALSE(held.notices.empty());  // it said so
+}
+
+/// dead_end's 5 mm tube with a 0.24 mm neck 6 mm long 21 mm in, and a
+/// straight 0.8 mm wire placed through it: no forces let the wire's points
+/// in the neck clear its opposite walls.
+SceneSpec threadedThroughANeck() {
+  std::ostringstream swc;
+  swc << "# units: mm\n";
+  for (int i = 0; i < 25; ++i)
+    swc << i + 1 << " 4 0 0 " << -5 + 3 * i << " " << (i == 8 || i == 9 ? 0.12 : 2.5) << " "
+        << (i == 0 ? -1 : i) << "\n";
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "evsim_threaded_neck.swc").string();
+  std::ofstream(path) << swc.str();
+  SceneSpec spec = loadSceneFile(resolveScenePath("dead_end"));
+  spec.vessels.centerline_file = path;
+  spec.devices[0].device = straightDeviceSpec("wire", test::wireSection(60e9, 0.4e-3), 0.1, 50);
+  spec.devices[0].inserted_length = 0.045;  // the tip at z = 42 mm, past the neck
+  spec.effects = {"subdivision"};
+  spec.script.clear();
+  return spec;
+}
+
+TEST(DriveLimit, AContactProblemWithoutSolutionFailsItsStep) {
+  // Lemke's ray proves the step's contact problem infeasible; the status
+  // method's answer of the regularised problem is no solution either: both
+  // fail the step, say why, and leave the state as it was.
+  for (LcpSolver solver : {LcpSolver::kLemke, LcpSolver::kStatusMethod}) {
+    SceneSpec spec = threadedThroughANeck();
+    spec.contact.lcp.solver = solver;
+    const SceneModel model = buildSceneModel(spec);
+    SimData data = makeData(model);
+    const std::vector<Vec3> before = data.devices[0].position;
+    EXPECT_NE(step(model, &data), StepStatus::kOk) << lcpSolverName(solver);
+    const std::string said =
+        solver == LcpSolver::kLemke ? "has no solution" : "was not solved (LCP solver 'status'";
+    EXPECT_NE(data.last_error.find(said), std::string::npos) << data.last_error;
+    std::printf("[ metric   ] wire through a neck, %s: %s\n", lcpSolverName(solver),
+                data.last_error.c_str());
+    EXPECT_EQ(data.time, 0.0);
+    for (size_t i = 0; i < before.size(); ++i)
+      EXPECT_EQ(data.devices[0].position[i], before[i]) << "node " << i;
+  }
 }
 
 TEST(DriveLimit, AStallBlocksOnlyItsOwnSense) {

@@ -51,10 +51,14 @@ struct LcpOptions {
 
 /// kInfeasible: Lemke's method ended on a ray, which for the positive
 /// semi-definite W of contacts proves that the problem has no solution.
-/// Never an answer: the step fails and is subdivided or recovered. (The
-/// status method answers the regularised problem W + eps I, which always
-/// has a solution, and reports its natural residual on W in LcpStats.)
-enum class LcpStatus { kSolved, kIterationLimit, kFailed, kInfeasible };
+/// kUnsolved: the status method's answer of the regularised problem W + eps
+/// I (which always has one) leaves a natural residual on W above
+/// kLcpResidualLimit: no solution of this problem (the contacts cannot all
+/// hold, or round-off lost the support); z holds that answer and LcpStats
+/// its residual. Neither is ever a step's answer: the step fails and is
+/// subdivided or recovered. An activation loop may go on from a kUnsolved z
+/// as an iterate (contact/contact_solver.h).
+enum class LcpStatus { kSolved, kIterationLimit, kFailed, kInfeasible, kUnsolved };
 
 /// Natural-map residual (relative to |q|) beyond which an answer is not one.
 /// A right support leaves about cond(W) times the machine epsilon: 2e-9 on a

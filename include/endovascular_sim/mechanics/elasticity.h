@@ -10,10 +10,15 @@ namespace evsim {
 
 enum class Tangent { kGaussNewton, kConsistent };
 
-/// Sums the elements: gradient (6 * num_nodes: force [N], moment [N m] per
-/// node) and, when K is not null, the tangent. Returns energy [J].
+/// Sums the elements [first_element, num_nodes - 1): gradient (6 *
+/// num_nodes: force [N], moment [N m] per node; zero on the nodes of the
+/// elements left out) and, when K is not null, the tangent (its blocks
+/// before first_element zero). Returns their energy [J]. The free motion
+/// leaves out the elements whose both nodes the introducer holds: they move
+/// with the drive, and nothing of theirs enters the free nodes' system.
 double assembleElasticity(const DeviceModel& model, const DeviceState& state, VecX* gradient,
-                          ChainMatrix* K, Tangent tangent = Tangent::kGaussNewton);
+                          ChainMatrix* K, Tangent tangent = Tangent::kGaussNewton,
+                          int first_element = 0);
 
 /// Elastic energy alone [J].
 double elasticEnergy(const DeviceModel& model, const DeviceState& state);

@@ -20,9 +20,9 @@ namespace evsim {
 
 /// Per-device workspace of a step (Data).
 struct DeviceWorkspace {
-  ChainMatrix stiffness;      // K over all nodes
-  ChainMatrix system;         // A over all nodes
-  VecX elastic_gradient;      // f_int (6 * num_nodes)
+  ChainMatrix stiffness;      // K over all nodes (of the elements with a free node)
+  ChainMatrix system;         // A over all nodes (zero before the last held node)
+  VecX elastic_gradient;      // f_int (6 * num_nodes; of the elements with a free node)
   VecX rhs;                   // right-hand side over the free nodes
   VecX dq;                    // free-motion increment of all nodes (6 * num_nodes)
   int first_free_node{-1};    // nodes [0, first_free_node) are held
@@ -32,7 +32,7 @@ struct DeviceWorkspace {
   ChainInverse inverse;       // band of A^-1 or (A + C)^-1 (the Delassus operator)
   MatX delassus_storage;      // the contact solver's W between steps (its DelassusBuffer's storage,
                               // kept so that no step allocates and faults it in again)
-  double elastic_energy{0.0};  // [J] at the start of the step
+  double elastic_energy{0.0};  // [J] at the start of the step, of the elements with a free node
 };
 
 /// Wall time of each stage [ms].

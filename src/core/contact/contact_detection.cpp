@@ -148,13 +148,12 @@ struct LumenViolation {
   LumenLocation location;
 };
 
-/// Points of inner devices beyond the lumen by more than `tolerance` at x:
-/// all of them, or per inner element and side the deepest only (two points
-/// are on one side when their offsets across the lumen's axis lie within
-/// 90 degrees: a wire bent in a curve presses one element on both sides).
+/// Points of inner devices beyond the lumen by more than `tolerance` at x,
+/// per inner element and side the deepest only (two points are on one side
+/// when their offsets across the lumen's axis lie within 90 degrees: a wire
+/// bent in a curve presses one element on both sides).
 std::vector<LumenViolation> lumenViolations(const ContactProblem& pb,
-                                            const std::vector<DeviceState>& x, double tolerance,
-                                            bool deepest_per_element) {
+                                            const std::vector<DeviceState>& x, double tolerance) {
   const auto& devices = *pb.devices;
   const auto& samples = *pb.samples;
   std::vector<LumenViolation> out;
@@ -169,7 +168,7 @@ std::vector<LumenViolation> lumenViolations(const ContactProblem& pb,
       const LumenLocation loc = locateInLumen(devices[d], x[d], s, devices[outer], x[outer]);
       if (!loc.inside || loc.excess() <= tolerance) continue;
       const LumenViolation v{static_cast<int>(d), static_cast<int>(k), loc};
-      if (deepest_per_element && s.element == element) {
+      if (s.element == element) {
         bool merged = false;  // into the entry of its side: across within 90 degrees
         for (size_t i = first_of_element; i < out.size() && !merged; ++i) {
           if (out[i].location.across.dot(loc.across) <= 0.0) continue;
@@ -342,7 +341,7 @@ void detectLumenContacts(const ContactProblem& pb, double touching, LoopState* s
     }
   }
   if (kept) return;
-  for (const LumenViolation& v : lumenViolations(pb, s->xf, 0.0, true)) addLumen(pb, v, s);
+  for (const LumenViolation& v : lumenViolations(pb, s->xf, 0.0)) addLumen(pb, v, s);
 }
 
 /// The plane for a point of device d, sample k, found beyond the wall at p
@@ -461,7 +460,7 @@ bool redetectPairs(const ContactProblem& pb, const ContactOptions& o, LoopState*
 bool redetectLumen(const ContactProblem& pb, const ContactOptions& o, LoopState* s,
                    double* deepest) {
   bool solved = true;
-  for (const LumenViolation& v : lumenViolations(pb, s->x, o.penetration_tolerance, true)) {
+  for (const LumenViolation& v : lumenViolations(pb, s->x, o.penetration_tolerance)) {
     solved = false;
     *deepest = std::max(*deepest, v.location.excess());
     const auto it = s->lumen_contact.find({v.device, v.sample});

@@ -198,6 +198,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
 
   // --- The activation loop ----------------------------------------------------
   bool solved = contacts->empty() && !stranded;
+  LcpStatus last_status = LcpStatus::kSolved;
   const int dim = o.friction ? 3 : 1;
   s.updated.assign(contacts->size(), 0);
   const WorkspaceStorageLease lease(&ws, &s.last_W);
@@ -222,7 +223,10 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     st->contacts = sys.c;
     if (pb.record)
       *pb.record = {sys.columns ? sys.columns->dense() : MatX(sys.W()), sys.q, lambda, sys.mu};
-    if (status != LcpStatus::kSolved) {  // the caller subdivides
+    // An unsolved LCP's answer (the regularised problem's) is an iterate
+    // the loop may go on from, never the step's answer (below).
+    last_status = status;
+    if (status != LcpStatus::kSolved && status != LcpStatus::kUnsolved) {  // the caller subdivides
       st->lcp_status = status;
       return false;
     }
@@ -236,6 +240,10 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     st->detection_ms += msSince(t0);
   }
 
+  if (last_status == LcpStatus::kUnsolved) {  // the points placed or not, the forces no answer
+    st->lcp_status = last_status;
+    solved = false;
+  }
   // The deepest wall penetration was measured by the last loop's pass over
   // the points at x (without contacts, no point crossed: 0).
   finishContacts(pb, s.x, contacts, st);

@@ -264,13 +264,12 @@ LcpStatus statusMethod(const Columns& W, const VecX& q, const LcpOptions& o, Vec
       const double best = refineOnFactor(W, q, chol, active, za, &w);
       st->residual = best;
       for (int j = 0; j < k; ++j) (*z)(chol.set()[j]) = za(j);
-      // The answer stands whatever its residual (reported in st): where the
-      // contacts cannot all hold, the regularised problem's answer is
-      // still the best start for the next activation loop, and the hard
-      // coil steps of aneurysm_coiling pass through loops whose LCPs end at
-      // residuals up to 0.11 and converge later (declared infeasible, they
-      // left steps unsolved).
-      return LcpStatus::kSolved;
+      // Above the limit the answer is the regularised problem's only, and
+      // said so; the caller decides what it is worth: the hard coil steps
+      // of aneurysm_coiling pass through activation loops whose LCPs end at
+      // residuals up to 0.11 and converge later, so a loop goes on from it,
+      // but a step never ends on it.
+      return best <= kLcpResidualLimit ? LcpStatus::kSolved : LcpStatus::kUnsolved;
     }
     if (!chol.add(add)) return LcpStatus::kFailed;
     active[add] = 1;
@@ -459,8 +458,8 @@ LcpStatus solveLcp(const MatXView& W, const VecX& q, const LcpOptions& options, 
     }
   });
   // The status method reports the residual of its last refinement.
-  if (status != LcpStatus::kSolved || options.solver != LcpSolver::kStatusMethod)
-    st->residual = lcpResidual(W, q, *z);
+  const bool refined = status == LcpStatus::kSolved || status == LcpStatus::kUnsolved;
+  if (!refined || options.solver != LcpSolver::kStatusMethod) st->residual = lcpResidual(W, q, *z);
   return status;
 }
 

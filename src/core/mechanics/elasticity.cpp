@@ -2,13 +2,15 @@
 // documented in endovascular_sim/mechanics/elasticity.h.
 #include "endovascular_sim/mechanics/elasticity.h"
 
+#include <algorithm>
+
 #include "endovascular_sim/mechanics/beam_element.h"
 #include "endovascular_sim/mechanics/so3.h"
 
 namespace evsim {
 
 double assembleElasticity(const DeviceModel& model, const DeviceState& state, VecX* gradient,
-                          ChainMatrix* K, Tangent tangent) {
+                          ChainMatrix* K, Tangent tangent, int first_element) {
   const int n = model.num_nodes;
   if (gradient) gradient->setZero(6 * n);
   if (K) {
@@ -17,7 +19,7 @@ double assembleElasticity(const DeviceModel& model, const DeviceState& state, Ve
   }
   double energy = 0.0;
   BeamElementEval ev;
-  for (int e = 0; e + 1 < n; ++e) {
+  for (int e = std::max(first_element, 0); e + 1 < n; ++e) {
     if (e == state.cut_element) continue;  // detached: pusher and coil no longer joined
     evaluateBeamElement(model.elements[e], state.position[e], state.rotation[e],
                         state.position[e + 1], state.rotation[e + 1], K != nullptr, &ev);

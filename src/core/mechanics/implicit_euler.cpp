@@ -47,7 +47,10 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
     ws->dq.segment<3>(6 * i + 3) = logSO3(R * state.rotation[i].toRotationMatrix().transpose());
   }
 
-  ws->elastic_energy = assembleElasticity(model, state, &ws->elastic_gradient, &ws->stiffness);
+  // Only the elements with a free node: [held, n - 1) (the element from the
+  // last held node couples it to the first free one).
+  ws->elastic_energy = assembleElasticity(model, state, &ws->elastic_gradient, &ws->stiffness,
+                                          Tangent::kGaussNewton, held);
   const double cm = 1.0 / (dt * dt) + model.rayleigh_mass / dt;
   const double ck = 1.0 + model.rayleigh_stiffness / dt;
   ChainMatrix& A = ws->system;
@@ -55,7 +58,11 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
   const int nf = n - first_free;
   ws->rhs.resize(6 * nf);
   const bool with_gravity = !gravity.isZero(0.0);  // effect 'gravity' off: zero
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < held; ++i) {                 // zero: the factor starts at the first free node
+    A.diag[i].setZero();
+    A.upper[i].setZero();
+  }
+  for (int i = std::max(held, 0); i < n; ++i) {
     const Mat6 M = nodeMass(model, state, i);
     A.diag[i] = cm * M + ck * ws->stiffness.diag[i];
     if (i + 1 < n) A.upper[i] = ck * ws->stiffness.upper[i];

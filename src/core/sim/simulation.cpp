@@ -46,10 +46,11 @@ void applyScript(const SceneModel& model, SimData* data) {
 /// Why the contacts of a (sub-)step were not solved, and the knob that helps.
 std::string unsolvedContacts(const ContactOptions& o, const ContactStats& cs) {
   std::ostringstream why;
-  if (cs.lcp_status == LcpStatus::kInfeasible) {
-    why << "the contact problem of " << cs.contacts << " contacts has no solution (LCP solver '"
-        << lcpSolverName(o.lcp.solver) << "', natural residual " << cs.lcp_residual
-        << " in activation loop " << cs.activation_loops
+  if (cs.lcp_status == LcpStatus::kInfeasible || cs.lcp_status == LcpStatus::kUnsolved) {
+    why << "the contact problem of " << cs.contacts << " contacts "
+        << (cs.lcp_status == LcpStatus::kInfeasible ? "has no solution" : "was not solved")
+        << " (LCP solver '" << lcpSolverName(o.lcp.solver) << "', natural residual "
+        << cs.lcp_residual << " in activation loop " << cs.activation_loops
         << "): the contacts cannot all hold, as when a device is pushed into a lumen narrower "
            "than it or squeezed into a dead end; a drive limit (devices[].drive) lets it stall";
   } else if (cs.lcp_status != LcpStatus::kSolved) {
