@@ -63,6 +63,15 @@ struct LumenSpring {
   double k;                            // [N/m]
 };
 
+/// The wall's curvature term C of one device (wall_curvature.h): a 12 x 12
+/// block on the nodes (e, e + 1) per wall contact with a force on element
+/// e, zero elsewhere (a few blocks on a chain of hundreds).
+struct CurvatureTerm {
+  std::vector<int> element;
+  std::vector<Mat12> block;
+  bool empty() const { return element.empty(); }
+};
+
 /// What the activation loop of one step carries from loop to loop.
 struct LoopState {
   LoopState(const ContactProblem& pb, std::vector<Contact>* contacts);
@@ -78,7 +87,7 @@ struct LoopState {
   std::vector<char> updated;  // per contact: plane already updated in this step
   // The wall's curvature and W's storage:
   std::vector<Band> band;                          // what ws[d].inverse holds
-  std::vector<ChainMatrix> curvature;              // C per device, kept once no longer updated
+  std::vector<CurvatureTerm> curvature;            // C per device, kept once no longer updated
   std::vector<char> curved;                        // device d steps with A + C
   std::vector<std::vector<ContactRow>> last_rows;  // rows of the last loop that used the band
   std::vector<DelassusBuffer> last_W;              // and its W (reused while the band stays)

@@ -4,6 +4,7 @@
 // activation loop, the re-detection at the loop's x (plane updates, new
 // contacts) and, once it converged, the tunnel check. Called by
 // resolveContacts (contact_solver.cpp) through activation_loop.h.
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
@@ -69,12 +70,36 @@ int outerOf(const ContactProblem& pb, size_t d) {
 
 namespace {
 
-/// Sample points of all devices at x. A point of an inner device within its
-/// outer device's lumen, or less than a few radii beyond its tip, is marked:
+/// Sample points of all devices at x that may pair: every free one, and the
+/// held ones within reach of a free one. A point of an inner device within
+/// its outer device's lumen, or less than a few radii beyond its tip, is marked:
 /// it touches the outer device through the lumen constraint, never as a pair.
 std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<DeviceState>& x) {
   const auto& devices = *pb.devices;
   const auto& samples = *pb.samples;
+  // A pair needs a free point, and its points closer than their radii: a
+  // held point beyond the free points' box grown by twice the largest
+  // radius pairs with none (most of a device still in its introducer), and
+  // neither does a held element's point when the element's box (its nodes',
+  // grown by half its length: more than any bow) misses it.
+  Eigen::AlignedBox3d box;
+  double rmax = 0.0;
+  for (size_t d = 0; d < devices.size(); ++d)
+    for (const SamplePoint& sp : samples[d]) {
+      rmax = std::max(rmax, sp.radius);
+      if (takesPart(pb, d, sp) && !(sp.element == x[d].cut_element && sp.xi > 0.0))
+        box.extend(samplePosition(devices[d], x[d], sp));
+    }
+  if (box.isEmpty()) return {};
+  box.min().array() -= 2.0 * rmax;
+  box.max().array() += 2.0 * rmax;
+  auto elementMisses = [&](size_t d, int e) {
+    Eigen::AlignedBox3d span(x[d].position[e]);
+    span.extend(x[d].position[e + 1]);
+    span.min().array() -= 0.5 * devices[d].elements[e].length;
+    span.max().array() += 0.5 * devices[d].elements[e].length;
+    return !box.intersects(span);
+  };
   std::vector<PointRef> pts;
   for (size_t d = 0; d < devices.size(); ++d) {
     const int outer = outerOf(pb, d);
@@ -82,14 +107,22 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
                              ? 0.0
                              : x[outer].inserted_length + 4.0 * devices[outer].node_radius.back() +
                                    devices[outer].elements.back().length;
+    int missed = -1;  // the last held element found out of reach
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& sp = samples[d][k];
       if (sp.element == x[d].cut_element && sp.xi > 0.0) continue;  // the detachment's gap
+      const bool free = takesPart(pb, d, sp);
+      if (!free && (sp.element == missed || elementMisses(d, sp.element))) {
+        missed = sp.element;
+        continue;
+      }
+      const Vec3 p = samplePosition(devices[d], x[d], sp);
+      if (!free && !box.contains(p)) continue;
       const double s = materialCoordinate(devices[d], sp);
       const bool held =
           outer >= 0 && !detached(x[d], sp) && pathLength(devices[d], x[d], s) < reach;
-      pts.push_back({takesPart(pb, d, sp), static_cast<int>(d), static_cast<int>(k), sp.element, s,
-                     samplePosition(devices[d], x[d], sp), sp.radius, held ? outer : -1});
+      pts.push_back({free, static_cast<int>(d), static_cast<int>(k), sp.element, s, p, sp.radius,
+                     held ? outer : -1});
     }
   }
   return pts;

@@ -38,13 +38,17 @@ bool sameRow(const ContactRow& a, const ContactRow& b) {
 /// solves), else by CHOLMOD (`curved`). (*band)[d] is updated; a band of
 /// A + C left from before becomes kNone.
 void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& contacts,
-                         const std::vector<DeviceState>& x, std::vector<ChainMatrix>* C,
+                         const std::vector<DeviceState>& x, std::vector<CurvatureTerm>* C,
                          std::vector<char>* curved, std::vector<Band>* band) {
   const auto& devices = *pb.devices;
   auto& ws = *pb.workspaces;
   const auto& samples = *pb.samples;
   const size_t nd = devices.size();
-  C->assign(nd, ChainMatrix());
+  C->resize(nd);
+  for (CurvatureTerm& c : *C) {  // the storage kept from the last loop
+    c.element.clear();
+    c.block.clear();
+  }
   curved->assign(nd, 0);
   for (Band& b : *band)
     if (b == Band::kOfCurved) b = Band::kNone;
@@ -67,25 +71,30 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
     Eigen::Matrix<double, 2, 12> R;
     R.row(0) = contactRow(devices[d], x[d], s, t[0]);
     R.row(1) = contactRow(devices[d], x[d], s, t[1]);
-    const Eigen::Matrix<double, 12, 12> Ce = ct.force * R.transpose() * S * R;
-    ChainMatrix& Cd = (*C)[d];
-    if (Cd.numBlocks() == 0) {
-      Cd.resize(devices[d].num_nodes);
-      Cd.setZero();
-    }
-    Cd.diag[e] += Ce.topLeftCorner<6, 6>();
-    Cd.diag[e + 1] += Ce.bottomRightCorner<6, 6>();
-    Cd.upper[e] += Ce.topRightCorner<6, 6>();
+    (*C)[d].element.push_back(e);
+    (*C)[d].block.push_back(ct.force * R.transpose() * S * R);
   }
   for (size_t d = 0; d < nd; ++d) {
     DeviceWorkspace& w = ws[d];
     const int n = w.factor.size();
-    if ((*C)[d].numBlocks() == 0 || n == 0) continue;
-    ChainMatrix& Ac = w.curved_system;  // storage kept across loops and steps
-    Ac = w.system;
-    for (int i = 0; i < Ac.numBlocks(); ++i) {
-      Ac.diag[i] += (*C)[d].diag[i];
-      if (i + 1 < Ac.numBlocks()) Ac.upper[i] += (*C)[d].upper[i];
+    if ((*C)[d].empty() || n == 0) continue;
+    // A + C over the free nodes (the factor starts at the first; the held
+    // blocks are never read): storage kept across loops and steps.
+    ChainMatrix& Ac = w.curved_system;
+    const int blocks = w.system.numBlocks(), first = w.first_free_node;
+    Ac.resize(blocks);
+    for (int i = first; i < blocks; ++i) {
+      Ac.diag[i] = w.system.diag[i];
+      if (i + 1 < blocks) Ac.upper[i] = w.system.upper[i];
+    }
+    for (size_t k = 0; k < (*C)[d].element.size(); ++k) {
+      const int e = (*C)[d].element[k];
+      const Mat12& Ce = (*C)[d].block[k];
+      if (e >= first) {
+        Ac.diag[e] += Ce.topLeftCorner<6, 6>();
+        Ac.upper[e] += Ce.topRightCorner<6, 6>();
+      }
+      Ac.diag[e + 1] += Ce.bottomRightCorner<6, 6>();
     }
     // (C is positive semi-definite, so this should not fail; if it does, A.)
     if (rows[d] >= kChainDelassusMinRows) {
@@ -104,8 +113,9 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
 /// curvature term: (*dq_step)[d] = (A + C)^-1 (A dq_free + C dq_k), and
 /// their factor that of A + C. Others keep A and dq_free. The solve uses
 /// the band's block LDL^T where it holds A + C, else the device's factor
-/// of A + C.
-void curvedFreeMotion(const ContactProblem& pb, const std::vector<ChainMatrix>& C,
+/// of A + C. Both products run over the free nodes only (dq_free and dq_k
+/// taken as zero on the held ones).
+void curvedFreeMotion(const ContactProblem& pb, const std::vector<CurvatureTerm>& C,
                       const std::vector<char>& curved, const std::vector<Band>& band,
                       const std::vector<VecX>& dq, std::vector<VecX>* dq_step,
                       std::vector<const ChainFactor*>* factor) {
@@ -113,11 +123,25 @@ void curvedFreeMotion(const ContactProblem& pb, const std::vector<ChainMatrix>& 
   for (size_t d = 0; d < curved.size(); ++d) {
     if (!curved[d]) continue;
     DeviceWorkspace& w = ws[d];
-    const int n = w.factor.size(), held = 6 * w.first_free_node;
-    VecX free = (*dq_step)[d], iterate = dq[d];
-    free.head(held).setZero();
-    iterate.head(held).setZero();
-    VecX rhs = (w.system.multiply(free) + C[d].multiply(iterate)).tail(n);
+    const ChainMatrix& A = w.system;
+    const int n = w.factor.size(), first = w.first_free_node, blocks = A.numBlocks();
+    const VecX& free = (*dq_step)[d];
+    VecX rhs = VecX::Zero(n);  // (A dq_free + C dq_k) on the free nodes
+    for (int i = first; i < blocks; ++i) {
+      const int r = 6 * (i - first);
+      rhs.segment<6>(r).noalias() += A.diag[i] * free.segment<6>(6 * i);
+      if (i + 1 == blocks) continue;
+      rhs.segment<6>(r).noalias() += A.upper[i] * free.segment<6>(6 * i + 6);
+      rhs.segment<6>(r + 6).noalias() += A.upper[i].transpose() * free.segment<6>(6 * i);
+    }
+    for (size_t k = 0; k < C[d].element.size(); ++k) {
+      const int e = C[d].element[k];
+      Vec12 iterate = dq[d].segment<12>(6 * e);
+      if (e < first) iterate.head<6>().setZero();  // a held node
+      const Vec12 y = C[d].block[k] * iterate;
+      if (e >= first) rhs.segment<6>(6 * (e - first)) += y.head<6>();
+      rhs.segment<6>(6 * (e + 1 - first)) += y.tail<6>();
+    }
     (*factor)[d] = band[d] == Band::kOfCurved ? &w.inverse.factor() : &w.curved;
     (*factor)[d]->solveInPlace(&rhs);
     (*dq_step)[d].tail(n) = rhs;
