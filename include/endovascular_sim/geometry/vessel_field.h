@@ -99,8 +99,14 @@ class VesselField : public ImplicitSurface {
     Vec3 a, axis;
     double length;
   };
-  /// Segment id moved by `motion`, computed once per snapshot (and thread).
-  const MovedSegment& moved(int id, const MotionSnapshot& motion) const;
+  /// Per thread: the segments moved by the last snapshot this thread used
+  /// with this field (vessel_field.cpp).
+  struct MovedCache;
+  /// This thread's cache, made current for `motion` (once per evaluation,
+  /// not per segment: the check compares the whole snapshot).
+  MovedCache& movedCache(const MotionSnapshot& motion) const;
+  /// Segment id moved by the cache's snapshot, computed once per snapshot.
+  const MovedSegment& moved(MovedCache& cache, int id, const MotionSnapshot& motion) const;
   void buildGrid();
   long cellIndex(int ix, int iy, int iz) const {
     return (static_cast<long>(iz) * dims_[1] + iy) * dims_[0] + ix;

@@ -11,9 +11,9 @@ namespace evsim {
 enum class Tangent { kGaussNewton, kConsistent };
 
 /// Sums the elements [first_element, num_nodes - 1): gradient (6 *
-/// num_nodes: force [N], moment [N m] per node; zero on the nodes of the
-/// elements left out) and, when K is not null, the tangent (its blocks
-/// before first_element zero). Returns their energy [J]. The free motion
+/// num_nodes: force [N], moment [N m] per node) and, when K is not null,
+/// the tangent; the nodes before first_element keep what they held (zero
+/// when the vector or matrix is new). Returns their energy [J]. The free motion
 /// leaves out the elements whose both nodes the introducer holds: they move
 /// with the drive, and nothing of theirs enters the free nodes' system.
 double assembleElasticity(const DeviceModel& model, const DeviceState& state, VecX* gradient,

@@ -20,9 +20,9 @@ namespace evsim {
 
 /// Per-device workspace of a step (Data).
 struct DeviceWorkspace {
-  ChainMatrix stiffness;      // K over all nodes (of the elements with a free node)
+  ChainMatrix stiffness;      // K of the elements with a free node (held nodes' blocks stale)
   ChainMatrix system;         // A over all nodes (zero before the last held node)
-  VecX elastic_gradient;      // f_int (6 * num_nodes; of the elements with a free node)
+  VecX elastic_gradient;      // f_int of the same (6 * num_nodes; held nodes' entries stale)
   VecX rhs;                   // right-hand side over the free nodes
   VecX dq;                    // free-motion increment of all nodes (6 * num_nodes)
   int first_free_node{-1};    // nodes [0, first_free_node) are held

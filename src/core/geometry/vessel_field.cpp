@@ -94,17 +94,18 @@ Vec3 VesselField::displaced(const Vec3& x, int weights, int endpoint,
   return y;
 }
 
-const VesselField::MovedSegment& VesselField::moved(int id, const MotionSnapshot& motion) const {
-  // Per thread (the model stays shareable between threads stepping their
-  // own data): the segments moved by the last snapshot this thread used
-  // with this field, each computed once per snapshot.
-  thread_local struct {
-    long field{-1};  // serial_ of the field (an address may be reused by another)
-    MotionSnapshot motion;
-    unsigned epoch{0};
-    std::vector<unsigned> stamp;
-    std::vector<MovedSegment> segments;
-  } cache;
+struct VesselField::MovedCache {
+  long field{-1};  // serial_ of the field (an address may be reused by another)
+  MotionSnapshot motion;
+  unsigned epoch{0};
+  std::vector<unsigned> stamp;
+  std::vector<MovedSegment> segments;
+};
+
+VesselField::MovedCache& VesselField::movedCache(const MotionSnapshot& motion) const {
+  // Per thread, so that the model stays shareable between threads stepping
+  // their own data.
+  thread_local MovedCache cache;
   if (cache.field != serial_ || cache.motion != motion) {
     cache.field = serial_;
     cache.motion = motion;
@@ -114,6 +115,11 @@ const VesselField::MovedSegment& VesselField::moved(int id, const MotionSnapshot
       cache.epoch = 1;
     }
   }
+  return cache;
+}
+
+const VesselField::MovedSegment& VesselField::moved(MovedCache& cache, int id,
+                                                    const MotionSnapshot& motion) const {
   MovedSegment& m = cache.segments[id];
   if (cache.stamp[id] != cache.epoch) {
     const Segment& s = segments_[id];
@@ -266,6 +272,7 @@ FieldSample VesselField::evaluate(const Vec3& p, double device_radius,
   if (cellOf(p, &x, &y, &z)) {
     const long c = cellIndex(x, y, z);
     const int ns = static_cast<int>(segments_.size());
+    MovedCache* cache = motion.empty() ? nullptr : &movedCache(motion);
     for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
       const int id = cell_items_[k];
       if (id < ns) {
@@ -275,7 +282,7 @@ FieldSample VesselField::evaluate(const Vec3& p, double device_radius,
         if (motion.empty()) {  // at rest: the axis and length kept
           if (s.length > 0.0) addSegmentFieldAlong(s.a, s.axis, s.length, R, p, &out);
         } else {
-          const MovedSegment& m = moved(id, motion);
+          const MovedSegment& m = moved(*cache, id, motion);
           if (m.length > 0.0) addSegmentFieldAlong(m.a, m.axis, m.length, R, p, &out);
         }
       } else {

@@ -12,14 +12,24 @@ namespace evsim {
 double assembleElasticity(const DeviceModel& model, const DeviceState& state, VecX* gradient,
                           ChainMatrix* K, Tangent tangent, int first_element) {
   const int n = model.num_nodes;
-  if (gradient) gradient->setZero(6 * n);
+  const int first = std::clamp(first_element, 0, n);
+  if (gradient) {  // zero from the first element's first node on
+    if (gradient->size() != 6 * n) gradient->setZero(6 * n);
+    gradient->tail(6 * (n - first)).setZero();
+  }
   if (K) {
-    K->resize(n);
-    K->setZero();
+    if (K->numBlocks() != n) {
+      K->resize(n);
+      K->setZero();
+    }
+    for (int i = first; i < n; ++i) {
+      K->diag[i].setZero();
+      if (i + 1 < n) K->upper[i].setZero();
+    }
   }
   double energy = 0.0;
   BeamElementEval ev;
-  for (int e = std::max(first_element, 0); e + 1 < n; ++e) {
+  for (int e = first; e + 1 < n; ++e) {
     if (e == state.cut_element) continue;  // detached: pusher and coil no longer joined
     evaluateBeamElement(model.elements[e], state.position[e], state.rotation[e],
                         state.position[e + 1], state.rotation[e + 1], K != nullptr, &ev);
