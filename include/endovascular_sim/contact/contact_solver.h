@@ -153,8 +153,8 @@ struct ContactProblem {
   /// none). Null or empty: no coaxial devices.
   const std::vector<int>* outer_of{nullptr};
   /// Per device and sample point, the certified interior ball of its last
-  /// evaluation (geometry/interior_ball.h), kept across steps while the
-  /// surface is at rest (null: none kept, every point evaluated).
+  /// evaluation (geometry/interior_ball.h), kept across steps (null: kept
+  /// for the step's loops only); on a moving surface it follows the motion.
   std::vector<std::vector<InteriorBall>>* interior{nullptr};
 };
 

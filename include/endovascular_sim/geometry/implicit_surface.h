@@ -24,6 +24,29 @@ class ImplicitSurface {
   virtual double hessianBound(const Vec3& p0, const Vec3& p1, double device_radius) const = 0;
   /// Region displacements at time t (empty when nothing moves).
   virtual MotionSnapshot motionAt(double /*t*/) const { return {}; }
+
+  // What a certified ball needs to follow a moving surface
+  // (geometry/interior_ball.h); a surface that cannot say keeps the
+  // defaults, and its balls hold for one snapshot only.
+  /// The change of the motion's displacement at x from snapshot m0 to m1 [m].
+  virtual Vec3 displacementChange(const Vec3& /*x*/, const MotionSnapshot& /*m0*/,
+                                  const MotionSnapshot& /*m1*/) const {
+    return Vec3::Zero();
+  }
+  /// kappa [-]: every point y of the surface's primitives moves, from m0 to
+  /// m1, relative to the displacement change at any x, by at most kappa |y -
+  /// x| (y at rest).
+  virtual double deformationRate(const MotionSnapshot& /*m0*/, const MotionSnapshot& /*m1*/) const {
+    return 0.0;
+  }
+  /// a, b [-]: when every primitive point y moves by at most kappa |y - c|
+  /// relative to a frame, g at every point q within half_width [m] of c
+  /// changes (q fixed in that frame) by at most a kappa + b kappa^2. False
+  /// when the surface gives no such bound.
+  virtual bool motionSensitivity(const Vec3& /*c*/, double /*half_width*/, double /*device_radius*/,
+                                 double* /*a*/, double* /*b*/) const {
+    return false;
+  }
 };
 
 /// The half-space n . (p - origin) >= 0 (n unit, pointing into the free

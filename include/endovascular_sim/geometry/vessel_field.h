@@ -65,6 +65,16 @@ class VesselField : public ImplicitSurface {
   /// centreline point there is moved by; displays move mesh vertices by it).
   Vec3 displacement(const Vec3& x, const MotionSnapshot& motion) const;
   bool moves() const { return !motion_.empty(); }
+  /// Balls that follow the motion (implicit_surface.h). The displacement
+  /// change is the motion field's; the deformation rate is the regions'
+  /// falloff slope times their displacement changes; the sensitivity sums,
+  /// over the primitives listed in the grid cells of the box c +- half_width,
+  /// the kernel's bounds (vessel_field.cpp).
+  Vec3 displacementChange(const Vec3& x, const MotionSnapshot& m0,
+                          const MotionSnapshot& m1) const override;
+  double deformationRate(const MotionSnapshot& m0, const MotionSnapshot& m1) const override;
+  bool motionSensitivity(const Vec3& c, double half_width, double device_radius, double* a,
+                         double* b) const override;
   /// Motion periods [s] of the regions (tests).
   std::vector<double> motionPeriods() const;
 

@@ -183,15 +183,15 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   auto t0 = Clock::now();
   LoopState s(pb, contacts);
   // The field at each sample's x_t and at the loop's x, where a certified
-  // ball does not spare it. The balls are kept across steps while the
-  // surface is at rest; a moving surface stands still within a step (one
-  // snapshot, at the step's end), so its balls serve this step's loops only.
+  // ball does not spare it. The balls are kept across steps; a moving
+  // surface stands still within a step (one snapshot, at the step's end),
+  // and a ball certified at an earlier snapshot follows it (followBall).
   std::vector<size_t> counts(s.contact_of.size());
   for (size_t d = 0; d < counts.size(); ++d) counts[d] = s.contact_of[d].size();
   std::vector<std::vector<InteriorBall>> step_balls;
   std::vector<std::vector<InteriorBall>>* balls = nullptr;
-  if (o.interior_balls) balls = pb.interior && pb.motion.empty() ? pb.interior : &step_balls;
-  fields::SampleFields field(pb.surface, counts, balls);
+  if (o.interior_balls) balls = pb.interior ? pb.interior : &step_balls;
+  fields::SampleFields field(pb.surface, counts, balls, &pb.motion);
   bool detect_later = false;
   const bool stranded = detectOnFreeMotion(pb, o, &field, &s, &detect_later, st);
   st->detection_ms += msSince(t0);

@@ -6,8 +6,9 @@ namespace evsim {
 namespace fields {
 
 SampleFields::SampleFields(const ImplicitSurface* surface, const std::vector<size_t>& counts,
-                           std::vector<std::vector<InteriorBall>>* balls)
-    : surface_(surface), balls_(balls) {
+                           std::vector<std::vector<InteriorBall>>* balls,
+                           const MotionSnapshot* motion)
+    : surface_(surface), balls_(balls), motion_(motion && !motion->empty() ? motion : nullptr) {
   const size_t nd = counts.size();
   start_ball_.resize(nd);
   start_.resize(nd);
@@ -18,7 +19,7 @@ SampleFields::SampleFields(const ImplicitSurface* surface, const std::vector<siz
   end_known_.resize(nd);
   if (balls_) balls_->resize(nd);
   for (size_t d = 0; d < nd; ++d) {
-    start_ball_[d].assign(counts[d], InteriorBall{});
+    start_ball_[d].assign(counts[d], Ball{});
     start_[d].resize(counts[d]);
     end_[d].resize(counts[d]);
     start_at_[d].resize(counts[d]);
@@ -27,25 +28,48 @@ SampleFields::SampleFields(const ImplicitSurface* surface, const std::vector<siz
     end_known_[d].assign(counts[d], 0);
     if (balls_ && (*balls_)[d].size() != counts[d]) (*balls_)[d].assign(counts[d], InteriorBall{});
   }
+  if (balls_ && motion_) {
+    now_.resize(nd);
+    now_known_.resize(nd);
+    for (size_t d = 0; d < nd; ++d) {
+      now_[d].resize(counts[d]);
+      now_known_[d].assign(counts[d], 0);
+    }
+  }
 }
 
 void SampleFields::recentre(int d, int k, const Vec3& c, const FieldSample& at, double radius) {
-  if (balls_) (*balls_)[d][k] = interiorBall(*surface_, c, at, radius, kMaxBallRadius);
+  if (!balls_) return;
+  (*balls_)[d][k] =
+      interiorBall(*surface_, c, at, radius, kMaxBallRadius, motion_ ? *motion_ : MotionSnapshot{});
+  if (motion_) {  // certified at this snapshot: as it stands
+    now_[d][k] = Ball{(*balls_)[d][k].center, (*balls_)[d][k].radius};
+    now_known_[d][k] = 1;
+  }
+}
+
+Ball SampleFields::ball(int d, int k) {
+  if (!motion_) return Ball{(*balls_)[d][k].center, (*balls_)[d][k].radius};
+  if (!now_known_[d][k]) {
+    now_[d][k] = followBall(&(*balls_)[d][k], *surface_, *motion_);
+    now_known_[d][k] = 1;
+  }
+  return now_[d][k];
 }
 
 bool SampleFields::startInside(int d, int k, const Vec3& p0, const Vec3& p1, double radius,
                                const MotionSnapshot& motion) {
   if (balls_) {
-    const InteriorBall& ball = (*balls_)[d][k];
-    if (ball.contains(p0) && ball.contains(p1)) {
-      start_ball_[d][k] = ball;
+    const Ball b = ball(d, k);
+    if (b.contains(p0) && b.contains(p1)) {
+      start_ball_[d][k] = b;
       return true;
     }
   }
   const FieldSample& g0 = start(d, k, p0, radius, motion);
   if (!balls_) return false;
   recentre(d, k, p0, g0, radius);
-  start_ball_[d][k] = (*balls_)[d][k];
+  start_ball_[d][k] = ball(d, k);
   return start_ball_[d][k].contains(p1);
 }
 
@@ -53,7 +77,7 @@ bool SampleFields::endWithinTolerance(int d, int k, const Vec3& p, double radius
                                       const MotionSnapshot& motion, double tolerance,
                                       double* depth_bound) {
   *depth_bound = 0.0;
-  if (balls_ && (*balls_)[d][k].contains(p)) return true;
+  if (balls_ && ball(d, k).contains(p)) return true;
   const bool have_end = end_known_[d][k] != 0;
   if (have_end || start_known_[d][k]) {  // the field at the point's last place this step
     const FieldSample& last = have_end ? end_[d][k] : start_[d][k];
@@ -76,10 +100,11 @@ bool SampleFields::endWithinTolerance(int d, int k, const Vec3& p, double radius
   return false;
 }
 
-bool SampleFields::chordInside(int d, int k, const Vec3& p0, const Vec3& p) const {
-  const InteriorBall& b = start_ball_[d][k];  // holds p0 whenever it exists
-  if (b.contains(p)) return true;
-  return balls_ && (*balls_)[d][k].contains(p0) && (*balls_)[d][k].contains(p);
+bool SampleFields::chordInside(int d, int k, const Vec3& p0, const Vec3& p) {
+  if (start_ball_[d][k].contains(p)) return true;  // it holds p0 whenever it exists
+  if (!balls_) return false;
+  const Ball b = ball(d, k);
+  return b.contains(p0) && b.contains(p);
 }
 
 const FieldSample& SampleFields::start(int d, int k, const Vec3& p0, double radius,

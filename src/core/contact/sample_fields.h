@@ -3,8 +3,8 @@
 // contact solver, contact_solver.cpp). A point whose motion stays in its
 // certified interior ball (geometry/interior_ball.h) is inside throughout:
 // no first root, no violation, no tunnel, and no evaluation. The balls are
-// kept across steps (SimData) while the surface is at rest, for one step's
-// loops when it moves.
+// kept across steps (SimData); on a moving surface each follows the motion
+// from the snapshot it was certified at (followBall), as far as it can.
 #pragma once
 
 #include <vector>
@@ -25,7 +25,7 @@ class SampleFields {
   /// (resized to the counts), or null (the option off: every point is
   /// evaluated).
   SampleFields(const ImplicitSurface* surface, const std::vector<size_t>& counts,
-               std::vector<std::vector<InteriorBall>>* balls);
+               std::vector<std::vector<InteriorBall>>* balls, const MotionSnapshot* motion);
 
   /// True when the path p0 -> p1 of point (d, k) is certified inside; else
   /// its field at p0 is evaluated (and its ball re-centred there) and false.
@@ -41,7 +41,7 @@ class SampleFields {
   bool endWithinTolerance(int d, int k, const Vec3& p, double radius, const MotionSnapshot& motion,
                           double tolerance, double* depth_bound);
   /// True when the chord p0 -> p lies in a certified ball (no tunnel).
-  bool chordInside(int d, int k, const Vec3& p0, const Vec3& p) const;
+  bool chordInside(int d, int k, const Vec3& p0, const Vec3& p);
 
   /// The field at p0 (x_t), evaluated once a step; at p (the point's place
   /// in an iterate), evaluated unless the last evaluation was at p.
@@ -52,10 +52,15 @@ class SampleFields {
  private:
   /// Re-centres (d, k)'s ball at c, where the field is `at`.
   void recentre(int d, int k, const Vec3& c, const FieldSample& at, double radius);
+  /// (d, k)'s ball at this step's snapshot (its kept ball followed there).
+  Ball ball(int d, int k);
 
   const ImplicitSurface* surface_;
-  std::vector<std::vector<InteriorBall>>* balls_;
-  std::vector<std::vector<InteriorBall>> start_ball_;  // the ball x_t lay in
+  std::vector<std::vector<InteriorBall>>* balls_;  // as certified
+  const MotionSnapshot* motion_;                   // this step's (null or empty: at rest)
+  std::vector<std::vector<Ball>> now_;             // moving: balls_ followed to motion_
+  std::vector<std::vector<char>> now_known_;
+  std::vector<std::vector<Ball>> start_ball_;  // the ball x_t lay in
   std::vector<std::vector<FieldSample>> start_, end_;
   std::vector<std::vector<Vec3>> start_at_, end_at_;  // where start_, end_ were evaluated
   std::vector<std::vector<char>> start_known_, end_known_;

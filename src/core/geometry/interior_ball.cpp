@@ -9,7 +9,7 @@
 namespace evsim {
 
 InteriorBall interiorBall(const ImplicitSurface& surface, const Vec3& c, const FieldSample& at,
-                          double device_radius, double max_radius) {
+                          double device_radius, double max_radius, const MotionSnapshot& motion) {
   InteriorBall ball;
   const double g = at.value, G = at.gradient.norm();
   if (!(g > 0.0) || !(G > 0.0) || !(max_radius > 0.0)) return ball;
@@ -23,7 +23,54 @@ InteriorBall interiorBall(const ImplicitSurface& surface, const Vec3& c, const F
   const double r = 2.0 * g / (G + std::sqrt(G * G + 2.0 * H * g));
   ball.center = c;
   ball.radius = std::min(r, reach);
+  if (motion.empty()) return ball;
+  ball.value = g;
+  ball.slope = G;
+  ball.hessian = H;
+  ball.reach = reach;
+  ball.max_radius = max_radius;
+  ball.device_radius = device_radius;
+  if (static_cast<int>(motion.size()) <= kMaxFollowedRegions) {
+    ball.regions = static_cast<int>(motion.size());
+    std::copy(motion.begin(), motion.end(), ball.motion.begin());
+    ball.follows = true;
+  }
   return ball;
+}
+
+Ball followBall(InteriorBall* kept, const ImplicitSurface& surface, const MotionSnapshot& motion) {
+  const InteriorBall& ball = *kept;
+  const Ball as_certified{ball.center, ball.radius};
+  if (ball.radius <= 0.0 || motion.empty()) return as_certified;
+  if (ball.regions != static_cast<int>(motion.size()) || !ball.follows) return Ball{};
+  if (std::equal(motion.begin(), motion.end(), ball.motion.begin())) return as_certified;
+  // The balls certified at one snapshot share kappa: kept for the last one.
+  thread_local struct {
+    MotionSnapshot then, now;
+    double kappa{0.0};
+  } last;
+  if (last.now != motion || !std::equal(last.then.begin(), last.then.end(), ball.motion.begin()) ||
+      static_cast<int>(last.then.size()) != ball.regions) {
+    last.then.assign(ball.motion.begin(), ball.motion.begin() + ball.regions);
+    last.now = motion;
+    last.kappa = surface.deformationRate(last.then, motion);
+  }
+  const Vec3 shift = surface.displacementChange(ball.center, last.then, motion);
+  if (shift.squaredNorm() > kBallSlack * kBallSlack) return Ball{};
+  if (!ball.sensed) {
+    // (over the cap's box, not the ball's: one box for every ball, which a
+    // surface may keep per region)
+    kept->follows = surface.motionSensitivity(ball.center, ball.max_radius + kBallSlack,
+                                              ball.device_radius, &kept->a, &kept->b);
+    kept->sensed = true;
+    if (!ball.follows) return Ball{};
+  }
+  const double kappa = last.kappa;
+  const double g = ball.value - ball.a * kappa - ball.b * kappa * kappa;
+  if (!(g > 0.0)) return Ball{};
+  const double G = ball.slope, H = ball.hessian;
+  return Ball{ball.center + shift,
+              std::min(2.0 * g / (G + std::sqrt(G * G + 2.0 * H * g)), ball.reach)};
 }
 
 }  // namespace evsim

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace evsim {
 namespace {
@@ -137,6 +138,109 @@ Vec3 VesselField::displacement(const Vec3& x, const MotionSnapshot& m) const {
   for (size_t k = 0; k < m.size() && k < motion_.size(); ++k)
     u += falloff((x - motion_[k].center).norm() / motion_[k].radius) * m[k];
   return u;
+}
+
+Vec3 VesselField::displacementChange(const Vec3& x, const MotionSnapshot& m0,
+                                     const MotionSnapshot& m1) const {
+  Vec3 du = Vec3::Zero();
+  for (size_t k = 0; k < motion_.size() && k < m0.size() && k < m1.size(); ++k)
+    du += falloff((x - motion_[k].center).norm() / motion_[k].radius) * (m1[k] - m0[k]);
+  return du;
+}
+
+double VesselField::deformationRate(const MotionSnapshot& m0, const MotionSnapshot& m1) const {
+  // |falloff'(s)| = 4 s (1 - s^2) <= 8 / (3 sqrt 3) = 1.5396 (at s^2 = 1/3):
+  // two points of one region's weights differ by at most that over its
+  // radius per metre between them (rounded up).
+  constexpr double kFalloffSlope = 1.5397;
+  double kappa = 0.0;
+  for (size_t k = 0; k < motion_.size() && k < m0.size() && k < m1.size(); ++k)
+    kappa += kFalloffSlope / motion_[k].radius * (m1[k] - m0[k]).norm();
+  return kappa;
+}
+
+bool VesselField::motionSensitivity(const Vec3& c, double half_width, double device_radius,
+                                    double* a, double* b) const {
+  // A segment's field (1/R) int K(|q - x(t)|) dt whose points move by at
+  // most delta: its length changes by at most 2 delta against an integral
+  // of K of at most 1 (times 1/R), and K, whose slope is at most 1.7173 /
+  // R (at r^2 = R^2 / 5), changes by at most that times delta over the
+  // stretch within R + delta of q (2 (R + delta) long): |df| <= (2 +
+  // 3.4346) delta / R + 3.4346 delta^2 / R^2. A sphere: w 1.7173 delta / R.
+  // With delta = kappa d, d the farthest of its (rest) endpoints from c.
+  // Summed once per grid cell for every centre in it (d from the cell's
+  // farthest corner, the primitives of the cells its box grown by
+  // half_width meets) and kept per thread: the balls of a device sliding
+  // through a lumen fall in few cells.
+  *a = *b = 0.0;
+  int ix, iy, iz;
+  if (!cellOf(c, &ix, &iy, &iz)) return true;  // no primitive: g does not change
+  struct Entry {
+    double half_width{-1.0}, a{0.0}, b{0.0};
+  };
+  thread_local struct {
+    long field{-1};
+    std::vector<std::pair<double, std::unordered_map<long, Entry>>> per_radius;
+    std::vector<int> ids;
+  } cache;
+  if (cache.field != serial_) {
+    cache.field = serial_;
+    cache.per_radius.clear();
+  }
+  std::unordered_map<long, Entry>* cells = nullptr;
+  for (auto& r : cache.per_radius)
+    if (r.first == device_radius) cells = &r.second;
+  if (!cells)
+    cells = &cache.per_radius.emplace_back(device_radius, std::unordered_map<long, Entry>{}).second;
+  const long cell = cellIndex(ix, iy, iz);
+  Entry& e = (*cells)[cell];
+  if (e.half_width < half_width) {
+    const Vec3 lo = bounds_.min() + cell_ * Vec3(ix, iy, iz);
+    const Vec3 hi = lo + Vec3::Constant(cell_);
+    int from[3], to[3];
+    for (int k = 0; k < 3; ++k) {
+      from[k] =
+          std::clamp(static_cast<int>(std::floor((lo[k] - half_width - bounds_.min()[k]) / cell_)),
+                     0, dims_[k] - 1);
+      to[k] =
+          std::clamp(static_cast<int>(std::floor((hi[k] + half_width - bounds_.min()[k]) / cell_)),
+                     0, dims_[k] - 1);
+    }
+    std::vector<int>& ids = cache.ids;
+    ids.clear();
+    for (int z = from[2]; z <= to[2]; ++z)
+      for (int y = from[1]; y <= to[1]; ++y)
+        for (int x = from[0]; x <= to[0]; ++x) {
+          const long n = cellIndex(x, y, z);
+          ids.insert(ids.end(), cell_items_.begin() + cell_start_[n],
+                     cell_items_.begin() + cell_start_[n + 1]);
+        }
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    auto farthest = [&](const Vec3& p) {  // from p to the cell's farthest point
+      return (p - lo).cwiseAbs().cwiseMax((p - hi).cwiseAbs()).norm();
+    };
+    const int ns = static_cast<int>(segments_.size());
+    e = Entry{half_width, 0.0, 0.0};
+    for (int id : ids) {
+      if (id < ns) {
+        const Segment& s = segments_[id];
+        const double R = (s.rho - device_radius) / alpha_;
+        if (R <= 0.0) continue;
+        const double d = std::max(farthest(s.a), farthest(s.b)) / R;
+        e.a += 5.4347 * d;
+        e.b += 3.4347 * d * d;
+      } else {
+        const Sphere& s = spheres_[id - ns];
+        const double R = (s.rho - device_radius) / alpha_;
+        if (R <= 0.0) continue;
+        e.a += 1.7174 * sphere_weight_ * farthest(s.c) / R;
+      }
+    }
+  }
+  *a = e.a;
+  *b = e.b;
+  return true;
 }
 
 MotionSnapshot VesselField::motionAt(double t) const {
