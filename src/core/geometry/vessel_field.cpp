@@ -168,10 +168,10 @@ bool VesselField::motionSensitivity(const Vec3& c, double half_width, double dev
   // stretch within R + delta of q (2 (R + delta) long): |df| <= (2 +
   // 3.4346) delta / R + 3.4346 delta^2 / R^2. A sphere: w 1.7173 delta / R.
   // With delta = kappa d, d the farthest of its (rest) endpoints from c.
-  // Summed once per grid cell for every centre in it (d from the cell's
-  // farthest corner, the primitives of the cells its box grown by
+  // Summed once per eighth of a grid cell for every centre in it (d from
+  // its farthest corner, the primitives of the cells its box grown by
   // half_width meets) and kept per thread: the balls of a device sliding
-  // through a lumen fall in few cells.
+  // through a lumen fall in few of them.
   *a = *b = 0.0;
   int ix, iy, iz;
   if (!cellOf(c, &ix, &iy, &iz)) return true;  // no primitive: g does not change
@@ -192,11 +192,16 @@ bool VesselField::motionSensitivity(const Vec3& c, double half_width, double dev
     if (r.first == device_radius) cells = &r.second;
   if (!cells)
     cells = &cache.per_radius.emplace_back(device_radius, std::unordered_map<long, Entry>{}).second;
-  const long cell = cellIndex(ix, iy, iz);
+  // Per eighth of a grid cell: d from its farthest corner.
+  const double part = 0.5 * cell_;
+  int sub[3];
+  for (int k = 0; k < 3; ++k)
+    sub[k] = std::clamp(static_cast<int>((c[k] - bounds_.min()[k]) / part), 0, 2 * dims_[k] - 1);
+  const long cell = (static_cast<long>(sub[2]) * 2 * dims_[1] + sub[1]) * 2 * dims_[0] + sub[0];
   Entry& e = (*cells)[cell];
   if (e.half_width < half_width) {
-    const Vec3 lo = bounds_.min() + cell_ * Vec3(ix, iy, iz);
-    const Vec3 hi = lo + Vec3::Constant(cell_);
+    const Vec3 lo = bounds_.min() + part * Vec3(sub[0], sub[1], sub[2]);
+    const Vec3 hi = lo + Vec3::Constant(part);
     int from[3], to[3];
     for (int k = 0; k < 3; ++k) {
       from[k] =
