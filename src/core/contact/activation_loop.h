@@ -120,8 +120,10 @@ struct LoopSystem {
 
 // --- Shared small helpers ---------------------------------------------------
 
-/// Configuration x_t (+) dq for every device.
-std::vector<DeviceState> moved(const std::vector<DeviceState>& start, const std::vector<VecX>& dq);
+/// Configuration x_t (+) dq for every device, into *x (its storage reused:
+/// the loop's iterate is moved once per loop).
+void moveInto(const std::vector<DeviceState>& start, const std::vector<VecX>& dq,
+              std::vector<DeviceState>* x);
 /// True when sample point s of device d takes part in contacts: it moves
 /// with a free node and does not lie inside the element cut by a detachment.
 bool takesPart(const ContactProblem& pb, size_t d, const SamplePoint& s);

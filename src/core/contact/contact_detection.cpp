@@ -27,10 +27,10 @@ using walls::lastWallAlong;
 using walls::tunnelExit;
 
 /// Configuration x_t (+) dq for every device.
-std::vector<DeviceState> moved(const std::vector<DeviceState>& start, const std::vector<VecX>& dq) {
-  std::vector<DeviceState> x = start;
-  for (size_t d = 0; d < x.size(); ++d) applyIncrement(dq[d], 0, &x[d]);
-  return x;
+void moveInto(const std::vector<DeviceState>& start, const std::vector<VecX>& dq,
+              std::vector<DeviceState>* x) {
+  *x = start;
+  for (size_t d = 0; d < x->size(); ++d) applyIncrement(dq[d], 0, &(*x)[d]);
 }
 
 namespace {
@@ -84,12 +84,20 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
   // grown by half its length: more than any bow) misses it.
   Eigen::AlignedBox3d box;
   double rmax = 0.0;
-  for (size_t d = 0; d < devices.size(); ++d)
-    for (const SamplePoint& sp : samples[d]) {
+  std::vector<std::vector<char>> free(devices.size());  // per sample: takes part
+  std::vector<std::vector<Vec3>> at(devices.size());    // per free sample: its position
+  for (size_t d = 0; d < devices.size(); ++d) {
+    free[d].resize(samples[d].size());
+    at[d].resize(samples[d].size());
+    for (size_t k = 0; k < samples[d].size(); ++k) {
+      const SamplePoint& sp = samples[d][k];
       rmax = std::max(rmax, sp.radius);
-      if (takesPart(pb, d, sp) && !(sp.element == x[d].cut_element && sp.xi > 0.0))
-        box.extend(samplePosition(devices[d], x[d], sp));
+      free[d][k] = takesPart(pb, d, sp);
+      if (!free[d][k] || (sp.element == x[d].cut_element && sp.xi > 0.0)) continue;
+      at[d][k] = samplePosition(devices[d], x[d], sp);
+      box.extend(at[d][k]);
     }
+  }
   if (box.isEmpty()) return {};
   box.min().array() -= 2.0 * rmax;
   box.max().array() += 2.0 * rmax;
@@ -111,17 +119,17 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& sp = samples[d][k];
       if (sp.element == x[d].cut_element && sp.xi > 0.0) continue;  // the detachment's gap
-      const bool free = takesPart(pb, d, sp);
-      if (!free && (sp.element == missed || elementMisses(d, sp.element))) {
+      const bool part = free[d][k] != 0;
+      if (!part && (sp.element == missed || elementMisses(d, sp.element))) {
         missed = sp.element;
         continue;
       }
-      const Vec3 p = samplePosition(devices[d], x[d], sp);
-      if (!free && !box.contains(p)) continue;
+      const Vec3 p = part ? at[d][k] : samplePosition(devices[d], x[d], sp);
+      if (!part && !box.contains(p)) continue;
       const double s = materialCoordinate(devices[d], sp);
       const bool held =
           outer >= 0 && !detached(x[d], sp) && pathLength(devices[d], x[d], s) < reach;
-      pts.push_back({free, static_cast<int>(d), static_cast<int>(k), sp.element, s, p, sp.radius,
+      pts.push_back({part, static_cast<int>(d), static_cast<int>(k), sp.element, s, p, sp.radius,
                      held ? outer : -1});
     }
   }

@@ -49,7 +49,7 @@ LoopState::LoopState(const ContactProblem& pb, std::vector<Contact>* contact_lis
   dq_free.resize(nd);
   dq.resize(nd);
   for (size_t d = 0; d < nd; ++d) dq_free[d] = dq[d] = (*pb.workspaces)[d].dq;
-  xf = moved(*pb.start, dq_free);
+  moveInto(*pb.start, dq_free, &xf);
   x = xf;
   contact_of.resize(nd);
   for (size_t d = 0; d < nd; ++d) contact_of[d].assign((*pb.samples)[d].size(), -1);

@@ -406,7 +406,7 @@ void correctMotion(const ContactProblem& pb, const ContactOptions& o, const Loop
       s->dq[d].tail(n) += correction;
     }
   }
-  s->x = moved(*pb.start, s->dq);
+  moveInto(*pb.start, s->dq, &s->x);
   for (int i = 0; i < sys.c; ++i) {
     Contact& ct = (*s->contacts)[i];
     ct.force = lambda(dim * i);
