@@ -171,10 +171,10 @@ std::string XrayRecorder::summary() const {
   const XrayCamera& c = renderer_.camera();
   std::snprintf(line, sizeof(line),
                 "%ld frames of %dx%d px at %.3g frames/s: %.3g ms per frame on average "
-                "(devices %.3g ms); vessels traced in %.3g ms",
+                "(devices %.3g ms); vessels traced in %.3g ms (%ld field evaluations)",
                 frames_, c.width, c.height, renderer_.spec().frame_rate,
                 frames_ ? render_ms_ / frames_ : 0.0, frames_ ? devices_ms_ / frames_ : 0.0,
-                renderer_.stats().vessels_ms);
+                renderer_.stats().vessels_ms, renderer_.stats().vessel_evaluations);
   return line;
 }
 

@@ -32,10 +32,17 @@ class VesselProjection {
 
   /// Traces the rays of `camera` (supersampling^2 per pixel) through the
   /// lumen of `field` at `motion`; `margin` [m] grows the capsules (moving
-  /// vessels).
+  /// vessels). With `only` (per centreline point, non-zero: its segment is
+  /// wanted) the rays are traced through those segments' capsules and the
+  /// capsules that touch them (so that a stretch of lumen goes to the same
+  /// segment as in the whole trace), not through the rest of the tree: the
+  /// pieces of the wanted segments are the whole trace's, at a cost in
+  /// proportion to the wanted part (a contrast-filled subtree of moving
+  /// vessels, traced each frame).
   void build(const VesselField& field, const Centerline& centerline,
              const std::vector<AneurysmSpec>& aneurysms, const XrayCamera& camera,
-             int supersampling, const MotionSnapshot& motion = {}, double margin = 0.0);
+             int supersampling, const MotionSnapshot& motion = {}, double margin = 0.0,
+             const std::vector<char>* only = nullptr);
 
   /// Adds, per pixel, sum over its pieces of length * mu(segment), with
   /// mu [1/m] per centreline point.

@@ -32,18 +32,27 @@ double relativeDistance(const Capsule& c, const Vec3& p) {
   return (c.a + s * c.u - p).norm() / c.rho;
 }
 
-std::vector<Capsule> capsulesOf(const Centerline& cl, const std::vector<AneurysmSpec>& aneurysms,
-                                double margin) {
+/// The segments' bounding capsules where `motion` has moved them: the field
+/// moves each segment's end points by the motion's displacement there
+/// (vessel_field.h), and so do the capsules.
+std::vector<Capsule> capsulesOf(const VesselField& field, const Centerline& cl,
+                                const std::vector<AneurysmSpec>& aneurysms,
+                                const MotionSnapshot& motion, double margin) {
+  auto at = [&](const Vec3& x) -> Vec3 {
+    return motion.empty() ? x : Vec3(x + field.displacement(x, motion));
+  };
+  std::vector<Vec3> position(cl.position.size());
+  for (size_t i = 0; i < position.size(); ++i) position[i] = at(cl.position[i]);
   std::vector<Capsule> caps;
   for (int i = 0; i < cl.numPoints(); ++i) {
     const int p = cl.parent[i];
     if (p < 0) continue;
-    const Vec3 ab = cl.position[i] - cl.position[p];
+    const Vec3 ab = position[i] - position[p];
     const double length = ab.norm();
     if (!(length > 0.0)) continue;
     const double rho = std::max(cl.radius[i], cl.radius[p]);
-    caps.push_back({cl.position[p], ab / length, length, rho,
-                    VesselProjection::kCapsuleScale * rho + margin, i});
+    caps.push_back(
+        {position[p], ab / length, length, rho, VesselProjection::kCapsuleScale * rho + margin, i});
   }
   const size_t segments = caps.size();
   for (const AneurysmSpec& an : aneurysms) {
@@ -51,14 +60,42 @@ std::vector<Capsule> capsulesOf(const Centerline& cl, const std::vector<Aneurysm
     int nearest = -1;
     double best = 1e300;
     for (size_t k = 0; k < segments; ++k) {
-      const double d = relativeDistance(caps[k], an.center);
+      const double d = relativeDistance(caps[k], at(an.center));
       if (d < best) best = d, nearest = caps[k].segment;
     }
     if (nearest < 0) continue;
-    caps.push_back({an.center, Vec3::UnitX(), 0.0, an.radius,
+    caps.push_back({at(an.center), Vec3::UnitX(), 0.0, an.radius,
                     VesselProjection::kCapsuleScale * an.radius + margin, nearest});
   }
   return caps;
+}
+
+/// The capsules of the wanted segments and of every capsule whose box
+/// touches one of theirs (the rest of the tree cannot share a ray's
+/// interval with a wanted capsule).
+std::vector<Capsule> wantedCapsules(std::vector<Capsule> caps, const std::vector<char>& only) {
+  using Box = Eigen::AlignedBox3d;
+  auto boxOf = [](const Capsule& c) {
+    Box b(c.a);
+    b.extend(c.a + c.length * c.u);
+    return Box(b.min().array() - c.bound, b.max().array() + c.bound);
+  };
+  std::vector<Box> wanted;
+  for (const Capsule& c : caps)
+    if (c.segment < static_cast<int>(only.size()) && only[c.segment]) wanted.push_back(boxOf(c));
+  Box all;
+  for (const Box& b : wanted) all.extend(b);
+  std::vector<Capsule> kept;
+  for (const Capsule& c : caps) {
+    const Box b = boxOf(c);
+    if (!all.intersects(b)) continue;
+    for (const Box& w : wanted)
+      if (w.intersects(b)) {
+        kept.push_back(c);
+        break;
+      }
+  }
+  return kept;
 }
 
 /// Each capsule's screen rectangle, ray by ray (s x s sub-rays per pixel):
@@ -144,11 +181,14 @@ void lumenStretches(const G& g, double t0, double t1, double step, F&& inside) {
 
 void VesselProjection::build(const VesselField& field, const Centerline& centerline,
                              const std::vector<AneurysmSpec>& aneurysms, const XrayCamera& camera,
-                             int supersampling, const MotionSnapshot& motion, double margin) {
+                             int supersampling, const MotionSnapshot& motion, double margin,
+                             const std::vector<char>* only) {
   const int s = std::max(1, supersampling);
   const int rays_per_pixel = s * s;
   const int w = camera.width;
-  const std::vector<Capsule> caps = capsulesOf(centerline, aneurysms, margin);
+  const std::vector<Capsule> caps =
+      only ? wantedCapsules(capsulesOf(field, centerline, aneurysms, motion, margin), *only)
+           : capsulesOf(field, centerline, aneurysms, motion, margin);
   const std::vector<Candidate> candidates = candidatesOf(caps, camera, s);
 
   // March the field along each ray's merged intervals.

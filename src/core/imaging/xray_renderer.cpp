@@ -18,10 +18,6 @@ double msSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-/// How far moving vessels may stray from their rest centreline [m]: the
-/// capsules that bound the lumen grow by it.
-constexpr double kMotionMargin = 0.005;
-
 /// The sub-ray offsets of a pixel: s x s points at the centres of its cells.
 double subOffset(int j, int s) { return (j + 0.5) / s - 0.5; }
 
@@ -190,21 +186,27 @@ void XrayRenderer::render(const std::vector<DevicePose>& devices, double time, X
   frame->contrast.assign(static_cast<size_t>(w) * h, 0.0f);
 
   if (model_->vessels && model_->centerline && contrast_.active(time)) {
+    std::vector<double> mu(model_->centerline->numPoints(), 0.0);
+    for (int k = 0; k < static_cast<int>(mu.size()); ++k)
+      mu[k] = contrast_.concentration(k, time) * mu_.iodine_mass;
+    // Static vessels: the whole tree once per C-arm pose. Moving vessels:
+    // each frame, the segments that hold contrast, where the motion has
+    // carried them.
     const bool moves = model_->vessels->moves();
     if (!vessels_traced_ || moves) {
       const auto start = std::chrono::steady_clock::now();
+      std::vector<char> filled;
+      if (moves)
+        for (const double m : mu) filled.push_back(m > 0.0);
       vessels_.build(*model_->vessels, *model_->centerline, model_->aneurysms, camera_,
                      1,  // the lumen is wide and smooth at a pixel's scale
-                     moves ? model_->vessels->motionAt(time) : MotionSnapshot{},
-                     moves ? kMotionMargin : 0.0);
+                     moves ? model_->vessels->motionAt(time) : MotionSnapshot{}, 0.0,
+                     moves ? &filled : nullptr);
       vessels_traced_ = true;
       stats_.vessels_ms = msSince(start);
       stats_.vessel_evaluations = vessels_.fieldEvaluations();
     }
     const auto start = std::chrono::steady_clock::now();
-    std::vector<double> mu(model_->centerline->numPoints(), 0.0);
-    for (int k = 0; k < static_cast<int>(mu.size()); ++k)
-      mu[k] = contrast_.concentration(k, time) * mu_.iodine_mass;
     vessels_.addAttenuation(mu, &frame->contrast);
     for (size_t p = 0; p < frame->attenuation.size(); ++p)
       frame->attenuation[p] += frame->contrast[p];
