@@ -15,6 +15,7 @@
 #include "endovascular_sim/mechanics/elasticity.h"
 #include "endovascular_sim/scene/scene_file.h"
 #include "endovascular_sim/sim/simulation.h"
+#include "test_helpers.h"
 
 namespace evsim {
 namespace {
@@ -79,6 +80,62 @@ TEST(Detach, RefusedInsideTheMicrocatheterThenThePusherLeavesTheCoil) {
       "[ metric   ] pusher withdrawn %.3f mm; junction %.3f mm (rest %.3f mm); coil centroid "
       "moved %.3f mm\n",
       pusher_back * 1e3, junction * 1e3, junction_rest * 1e3, coil_moved * 1e3);
+}
+
+TEST(Detach, ThePusherPushedBackPushesTheDetachedCoil) {
+  // A straight 0.25 mm "coil" (20 mm, 10 elements) behind a straight pusher
+  // (30 mm, 10 elements: the junction element 3 mm) in dead_end's straight
+  // 5 mm tube, no gravity: detached with the junction out of the
+  // introducer, the pusher withdrawn 3 mm, then advanced 8 mm at 10 mm/s.
+  // Its tip meets the coil's end head-on once it has closed the junction's
+  // 3 mm and the 3 mm withdrawn, less the two radii (0.25 mm), and from
+  // there pushes it: at the end of the push the coil's end has moved 8 - 3
+  // - (3 - 0.25) = 2.25 mm along the tube, the two ends 0.25 mm apart. As one
+  // body the pusher's tip and the coil's end were exempt as neighbours along
+  // the device, and the tip ran into the coil.
+  SceneSpec spec = loadSceneFile(resolveScenePath("dead_end"));
+  DeviceSpec device = straightDeviceSpec("pusher", test::wireSection(60e9, 0.125e-3), 0.03, 10);
+  DeviceSectionSpec coil = device.sections[0];
+  coil.name = "coil";
+  coil.section = test::wireSection(2e9, 0.125e-3, 21450.0);
+  coil.length = 0.02;
+  device.sections.push_back(coil);
+  device.detach_section = "coil";
+  device.name = "coil";
+  spec.devices[0].device = device;
+  spec.devices[0].inserted_length = 0.026;  // the coil and the junction past the introducer
+  spec.effects = {"device_contact"};
+  spec.contact.device_contact = true;
+  spec.gravity = Vec3::Zero();
+  spec.script.clear();
+  const SceneModel model = buildSceneModel(spec);
+  SimData data = makeData(model);
+  const int cut = model.devices[0].detach_element;
+  ASSERT_EQ(cut, 9);
+  const double r_sum = 2 * 0.125e-3, junction = 0.003;
+  auto run = [&](double speed, double until) {
+    DriveCommand command;
+    command.insertion = speed;
+    ASSERT_EQ(setCommand(model, &data, "coil", command), "");
+    while (data.time < until - 1e-9)
+      ASSERT_EQ(step(model, &data), StepStatus::kOk)
+          << "t = " << data.time << ": " << data.last_error;
+  };
+  run(0.0, 0.01);
+  ASSERT_EQ(detachDevice(model, &data, "coil"), "");
+  const Vec3 axis = spec.devices[0].introducer.frame.col(0);
+  const Vec3 end_before = data.devices[0].position[cut + 1];
+  run(-0.01, 0.31);  // 3 mm back
+  run(0.01, 1.11);   // 8 mm forward
+  const DeviceState& x = data.devices[0];
+  const double moved = (x.position[cut + 1] - end_before).dot(axis);
+  const double apart = (x.position[cut + 1] - x.position[cut]).norm();
+  std::printf(
+      "[ metric   ] pusher back 3 mm, then 8 mm on: the detached coil's end pushed %.4f mm "
+      "(expected %.4f), the two ends %.4f mm apart (radii %.4f mm)\n",
+      moved * 1e3, (0.008 - 0.003 - (junction - r_sum)) * 1e3, apart * 1e3, r_sum * 1e3);
+  EXPECT_NEAR(moved, 0.008 - 0.003 - (junction - r_sum), 2e-5);
+  EXPECT_NEAR(apart, r_sum, 1e-5);  // (the pushed coil runs a few um ahead between steps)
 }
 
 // The scene is a hard case: from 0.7 s the coil whips its loops round the

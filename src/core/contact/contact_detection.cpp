@@ -130,7 +130,7 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
       const bool held =
           outer >= 0 && !detached(x[d], sp) && pathLength(devices[d], x[d], s) < reach;
       pts.push_back({part, static_cast<int>(d), static_cast<int>(k), sp.element, s, p, sp.radius,
-                     held ? outer : -1});
+                     held ? outer : -1, detached(x[d], sp) ? 1 : 0});
     }
   }
   return pts;

@@ -99,10 +99,12 @@ std::vector<Pair> closestPerElementPair(std::vector<Candidate> found) {
 }  // namespace
 
 /// Pairs of points, at least one of them free, closer than the sum of their
-/// radii plus `margin`, from a grid of cells (CellRows). On one device only
-/// points more than 2 (r_a + r_b) plus two element lengths apart along it
-/// count (neighbours along a device always touch). Per pair of elements the
-/// closest pair only.
+/// radii plus `margin`, from a grid of cells (CellRows). On one body (a
+/// device, or either part of a detached one) only points more than 2 (r_a +
+/// r_b) plus two element lengths apart along it count (neighbours along a
+/// device always touch); the pusher's tip and the detached coil's end are
+/// two bodies and touch as any pair. Per pair of elements the closest pair
+/// only.
 std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
                             const std::vector<PointRef>& pts, double margin) {
   double rmax = 0.0;
@@ -121,7 +123,7 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
     const double reach = a.r + b.r + margin;
     const double dist2 = (a.p - b.p).squaredNorm();
     if (dist2 >= reach * reach || dist2 == 0.0) return;
-    if (a.device == b.device) {
+    if (a.device == b.device && a.body == b.body) {
       const double along = std::abs(a.s - b.s);
       const double le = std::max(devices[a.device].elements[a.element].length,
                                  devices[b.device].elements[b.element].length);

@@ -19,6 +19,7 @@ struct PointRef {
   Vec3 p;           // [m]
   double r;         // [m]
   int in_lumen_of;  // effect 'coaxial': the outer device whose lumen holds it (-1: none)
+  int body{0};      // 1: the part of its device cut off by a detachment (a coil), else 0
 };
 
 struct Pair {
