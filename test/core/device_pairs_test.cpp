@@ -1,6 +1,9 @@
-// The grid search of device point pairs (contact/device_pairs.h) against a
-// brute-force scan of every pair, on random dense clouds of points of two
-// devices (self-pairs and pairs between devices, held points, lumens).
+// Device pairs (contact/device_pairs.h): the grid searches of point pairs
+// and of element pairs against brute-force scans of every pair, on random
+// dense clouds and chains of two devices (self-pairs and pairs between
+// devices, held points and elements, lumens); and the closest points of two
+// straight wires crossed at angles from 5 to 90 degrees against the
+// analytic distance of their axes.
 #include "contact/device_pairs.h"
 
 #include <gtest/gtest.h>
@@ -14,16 +17,18 @@
 namespace evsim {
 namespace {
 
+using pairs::ElementRef;
 using pairs::Pair;
+using pairs::PointPair;
 using pairs::PointRef;
 
 /// Every pair i < j, kept under the documented rules: one point free, not
 /// in the other device's lumen, closer than r_i + r_j + margin and not
 /// coincident, on one device more than 2 (r_i + r_j) + 2 element lengths
 /// apart along it; per element pair the closest (lowest indices on ties).
-std::vector<Pair> bruteForcePairs(const std::vector<DeviceModel>& devices,
-                                  const std::vector<PointRef>& pts, double margin) {
-  std::map<std::tuple<int, int, int, int>, Pair> best;
+std::vector<PointPair> bruteForcePointPairs(const std::vector<DeviceModel>& devices,
+                                            const std::vector<PointRef>& pts, double margin) {
+  std::map<std::tuple<int, int, int, int>, PointPair> best;
   for (size_t i = 0; i < pts.size(); ++i) {
     for (size_t j = i + 1; j < pts.size(); ++j) {
       const PointRef &a = pts[i], &b = pts[j];
@@ -38,16 +43,17 @@ std::vector<Pair> bruteForcePairs(const std::vector<DeviceModel>& devices,
       }
       const auto key = std::make_tuple(a.device, a.element, b.device, b.element);
       const auto it = best.find(key);
-      const Pair p{static_cast<int>(i), static_cast<int>(j), std::sqrt((a.p - b.p).squaredNorm())};
+      const PointPair p{static_cast<int>(i), static_cast<int>(j),
+                        std::sqrt((a.p - b.p).squaredNorm())};
       if (it == best.end() || p.distance < it->second.distance) best[key] = p;
     }
   }
-  std::vector<Pair> out;
+  std::vector<PointPair> out;
   for (const auto& [key, p] : best) out.push_back(p);
   return out;
 }
 
-TEST(DevicePairs, GridSearchFindsExactlyTheBruteForcePairs) {
+TEST(DevicePairs, PointGridSearchFindsExactlyTheBruteForcePairs) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const double element_length = 5e-4;  // [m]
@@ -64,8 +70,8 @@ TEST(DevicePairs, GridSearchFindsExactlyTheBruteForcePairs) {
                        device == 1 && u(rng) < 0.2 ? 0 : -1});
       }
     for (double margin : {0.0, -1e-6, 5e-5}) {
-      const std::vector<Pair> grid = pairs::findPairs(devices, pts, margin);
-      const std::vector<Pair> brute = bruteForcePairs(devices, pts, margin);
+      const std::vector<PointPair> grid = pairs::findPointPairs(devices, pts, margin);
+      const std::vector<PointPair> brute = bruteForcePointPairs(devices, pts, margin);
       ASSERT_EQ(grid.size(), brute.size()) << "trial " << trial << " margin " << margin;
       for (size_t k = 0; k < grid.size(); ++k) {
         EXPECT_EQ(grid[k].a, brute[k].a);
@@ -78,7 +84,166 @@ TEST(DevicePairs, GridSearchFindsExactlyTheBruteForcePairs) {
   }
   EXPECT_EQ(compared, 60);
   EXPECT_GT(found, 1000);  // the clouds are dense enough to test something
-  std::printf("[ metric   ] %d pairs found in 60 clouds, all equal to the brute force\n", found);
+  std::printf("[ metric   ] %d point pairs found in 60 clouds, all equal to the brute force\n",
+              found);
+}
+
+/// A device of `nodes` nodes along a random walk of steps `length` [m]
+/// inside the cube of edge `box` around the origin, each node's frame
+/// along its chords.
+DeviceModel randomChain(int nodes, double length, double box, std::mt19937* rng, DeviceState* x) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  DeviceModel m;
+  m.num_nodes = nodes;
+  m.elements.assign(nodes - 1, BeamElementRest{length});
+  for (int i = 0; i < nodes; ++i) m.node_s.push_back(i * length);
+  x->position.assign(1, Vec3(u(*rng), u(*rng), u(*rng)) * box / 2);
+  while (static_cast<int>(x->position.size()) < nodes) {
+    const Vec3 step = Vec3(u(*rng), u(*rng), u(*rng)).normalized() * length;
+    const Vec3 next = x->position.back() + step;
+    if (next.cwiseAbs().maxCoeff() < box / 2) x->position.push_back(next);
+  }
+  for (int i = 0; i < nodes; ++i) {
+    const Vec3 t =
+        (x->position[std::min(i + 1, nodes - 1)] - x->position[std::max(i - 1, 0)]).normalized();
+    x->rotation.push_back(Quat::FromTwoVectors(Vec3::UnitX(), t));
+  }
+  return m;
+}
+
+/// Every pair of elements i < j under the documented rules (one free, not
+/// in the other device's lumen, the axes closer than r_i + r_j + margin,
+/// on one device more than 2 (r_i + r_j) + 2 element lengths apart along
+/// it at the closest points, a closest point at a distal node left to the
+/// next element), in index order.
+std::vector<Pair> bruteForcePairs(const std::vector<DeviceModel>& devices,
+                                  const std::vector<DeviceState>& x,
+                                  const std::vector<ElementRef>& els, double margin) {
+  std::vector<Pair> out;
+  for (size_t i = 0; i < els.size(); ++i)
+    for (size_t j = i + 1; j < els.size(); ++j) {
+      const ElementRef &a = els[i], &b = els[j];
+      if (!a.free && !b.free) continue;
+      if (a.in_lumen_of == b.device || b.in_lumen_of == a.device) continue;
+      const DeviceModel &ma = devices[a.device], &mb = devices[b.device];
+      double xa = 0.0, xb = 0.0;
+      const double d = pairs::closestAxisPoints(ma, x[a.device], a.element, mb, x[b.device],
+                                                b.element, &xa, &xb);
+      const double ra = a.point.radius, rb = b.point.radius;
+      if (!(d < ra + rb + margin)) continue;
+      if (a.device == b.device) {
+        const double le = std::max(ma.elements[a.element].length, mb.elements[b.element].length);
+        const double sa = ma.node_s[a.element] + xa * le, sb = mb.node_s[b.element] + xb * le;
+        if (std::abs(sa - sb) <= 2.0 * (ra + rb) + 2.0 * le) continue;
+      }
+      if ((xa == 1.0 && a.element + 2 < ma.num_nodes) ||
+          (xb == 1.0 && b.element + 2 < mb.num_nodes))
+        continue;
+      Pair p{static_cast<int>(i), static_cast<int>(j), a.point, b.point,
+             Vec3::Zero(),        Vec3::Zero(),        d};
+      p.on_a.xi = xa;
+      p.on_b.xi = xb;
+      out.push_back(p);
+    }
+  return out;
+}
+
+TEST(DevicePairs, GridSearchFindsExactlyTheBruteForcePairs) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int compared = 0, found = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    const double box = 2e-3 + 4e-3 * u(rng);  // [m] edge of the cube (dense to sparse)
+    std::vector<DeviceModel> devices;
+    std::vector<DeviceState> x(2);
+    std::vector<ElementRef> els;
+    for (int device = 0; device < 2; ++device) {
+      devices.push_back(randomChain(150, 5e-4, box, &rng, &x[device]));
+      for (int e = 0; e + 1 < 150; ++e) {
+        SamplePoint sp{e, 0.0, 1e-4 + 5e-5 * u(rng), 0.0};
+        ElementRef el{u(rng) < 0.9,
+                      device,
+                      e,
+                      0,
+                      device == 1 && u(rng) < 0.2 ? 0 : -1,
+                      e,
+                      sp,
+                      pairs::axisBox(devices.back(), x[device], e)};
+        el.box.min().array() -= sp.radius;
+        el.box.max().array() += sp.radius;
+        el.bow = pairs::axisBow(devices.back(), x[device], e);
+        els.push_back(el);
+      }
+    }
+    for (double margin : {0.0, -1e-6, 5e-5}) {
+      const std::vector<Pair> grid = pairs::findPairs(devices, x, els, margin);
+      const std::vector<Pair> brute = bruteForcePairs(devices, x, els, margin);
+      ASSERT_EQ(grid.size(), brute.size()) << "trial " << trial << " margin " << margin;
+      for (size_t k = 0; k < grid.size(); ++k) {
+        EXPECT_EQ(grid[k].a, brute[k].a);
+        EXPECT_EQ(grid[k].b, brute[k].b);
+        EXPECT_EQ(grid[k].distance, brute[k].distance);
+      }
+      ++compared;
+      found += static_cast<int>(grid.size());
+    }
+  }
+  EXPECT_EQ(compared, 36);
+  EXPECT_GT(found, 1000);  // the chains are dense enough to test something
+  std::printf("[ metric   ] %d element pairs found in 36 chains, all equal to the brute force\n",
+              found);
+}
+
+/// A straight element from a to b (its frames along it).
+DeviceModel straightElement(const Vec3& a, const Vec3& b, DeviceState* x) {
+  DeviceModel m;
+  m.num_nodes = 2;
+  m.elements.assign(1, BeamElementRest{(b - a).norm()});
+  m.node_s = {0.0, (b - a).norm()};
+  x->position = {a, b};
+  const Quat q = Quat::FromTwoVectors(Vec3::UnitX(), b - a);
+  x->rotation = {q, q};
+  return m;
+}
+
+TEST(DevicePairs, CrossedWiresTouchWhereTheirAxesAreClosest) {
+  // Wire a along x (10 mm, centred at an offset u along it), wire b at an
+  // angle theta to it in the x-y plane, lifted by h along z and centred at
+  // an offset v along itself: the axes' closest points are a's point at x =
+  // 0 and b's at its centre less v, h apart, wherever the offsets put them
+  // on the elements (between samples or not). The pair: found, with that
+  // distance and those points, to 1e-12 m.
+  int checked = 0;
+  const double ra = 1.25e-4, rb = 1.25e-4, h = 2.3e-4;  // [m] the wires overlap by 20 um
+  for (double degrees = 5.0; degrees <= 90.0; degrees += 5.0) {
+    const double theta = degrees * M_PI / 180.0;
+    const Vec3 tb(std::cos(theta), std::sin(theta), 0.0);
+    for (double u : {-4e-3, -1.3e-3, 0.0, 2.1e-3})
+      for (double v : {-3.7e-3, -0.4e-3, 0.0, 4.2e-3}) {
+        std::vector<DeviceState> x(2);
+        std::vector<DeviceModel> devices;
+        devices.push_back(straightElement(Vec3(-5e-3 - u, 0, 0), Vec3(5e-3 - u, 0, 0), &x[0]));
+        const Vec3 cb = Vec3(0, 0, h) - v * tb;
+        devices.push_back(straightElement(cb - 5e-3 * tb, cb + 5e-3 * tb, &x[1]));
+        std::vector<ElementRef> els;
+        for (int d = 0; d < 2; ++d) {
+          SamplePoint sp{0, 0.0, d == 0 ? ra : rb, 0.0};
+          ElementRef el{true, d, 0, 0, -1, 0, sp, pairs::axisBox(devices[d], x[d], 0)};
+          el.box.min().array() -= sp.radius;
+          el.box.max().array() += sp.radius;
+          el.bow = pairs::axisBow(devices[d], x[d], 0);
+          els.push_back(el);
+        }
+        const std::vector<Pair> found = pairs::findPairs(devices, x, els, 0.0);
+        ASSERT_EQ(found.size(), 1u) << degrees << " deg, u " << u << ", v " << v;
+        const Pair& p = found[0];
+        EXPECT_NEAR(p.distance - (ra + rb), h - (ra + rb), 1e-12);
+        EXPECT_NEAR((p.pa - Vec3::Zero()).norm(), 0.0, 1e-12);
+        EXPECT_NEAR((p.pb - Vec3(0, 0, h)).norm(), 0.0, 1e-12);
+        ++checked;
+      }
+  }
+  EXPECT_EQ(checked, 18 * 16);
 }
 
 }  // namespace

@@ -138,6 +138,9 @@ TEST(Sleep, AStateFileKeepsTheSleep) {
   ASSERT_GT(lines.size(), 3u);
   lines[0] = "evsim_state 1";
   for (int k = 0; k < 2; ++k) lines[2].erase(lines[2].rfind(' '));
+  for (std::string& l : lines)  // (no pair contact's own point before version 3)
+    if (l.rfind("contact ", 0) == 0)
+      for (int k = 0; k < 4; ++k) l.erase(l.rfind(' '));
   {
     std::ofstream out(path);
     for (const std::string& l : lines) out << l << "\n";

@@ -54,6 +54,7 @@ struct ContactOptions {
   double penetration_tolerance{1e-6};  // a point beyond the wall by more is violated [m]
   RootOptions root;                    // first-root search
   bool device_contact{false};          // effect 'device_contact': pairs of device points
+  bool element_pairs{false};           // device pairs between elements' axes, not sample points
   bool friction{false};                // effect 'friction': Coulomb friction (NSGS)
   bool wall_curvature{true};           // the wall's curvature in A (contact/wall_curvature.h)
   int curvature_loops{1000};           // loops that update C (then A + C and its band are kept)
@@ -90,9 +91,18 @@ struct Contact {
   int other_sample{-1};
   Vec3 friction{Vec3::Zero()};  // tangential force on the device point [N] (effect 'friction')
   SamplePoint other{};          // the other device's point (its element, xi, radius, mu)
+  SamplePoint self{};           // pair contacts: this device's point (the closest point of its
+                                // element's axis; `sample` is that element's first sample)
   double separation{0.0};       // [m], see above
   bool lumen{false};            // an inner device's point in its outer device's lumen
 };
+
+/// The device's point of a contact: for a device pair the closest point of
+/// its element's axis, else its sample point.
+inline const SamplePoint& contactPointOf(const Contact& c,
+                                         const std::vector<std::vector<SamplePoint>>& samples) {
+  return c.other_device >= 0 && !c.lumen ? c.self : samples[c.device][c.sample];
+}
 
 struct ContactStats {
   int contacts{0};          // rows of the last LCP
@@ -172,8 +182,9 @@ struct DeviceOverlap {
 /// problem.start (workspaces' first_free_node set): per pair of elements
 /// the deepest, deepest first. A scene whose devices start so is refused
 /// at load (sim/scene_model.cpp): its first step would have to push them
-/// apart by that much.
-std::vector<DeviceOverlap> deviceOverlaps(const ContactProblem& problem, double tolerance);
+/// apart by that much. Pairs as the scene's contact.element_pairs finds them.
+std::vector<DeviceOverlap> deviceOverlaps(const ContactProblem& problem, double tolerance,
+                                          bool element_pairs = false);
 
 /// Corrects ws.dq of every device so that no sample point lies beyond the
 /// surface by more than the tolerance. Returns false when that was not

@@ -82,7 +82,7 @@ struct LoopState {
   std::vector<DeviceState> x;   // x_t (+) dq: the configuration the rows are linearised at
   std::vector<Contact>* contacts;
   std::vector<std::vector<int>> contact_of;         // per device, sample -> contact or -1
-  std::map<std::array<int, 4>, int> pair_contact;   // (device, sample, device, sample) -> contact
+  std::map<std::array<int, 4>, int> pair_contact;   // (device, element, device, element) -> contact
   std::map<std::array<int, 2>, int> lumen_contact;  // (device, sample) -> contact
   std::vector<char> updated;  // per contact: plane already updated in this step
   // The wall's curvature and W's storage:

@@ -9,18 +9,14 @@
 #include <cmath>
 
 #include "activation_loop.h"
-#include "device_pairs.h"
 #include "endovascular_sim/contact/coaxial.h"
 #include "endovascular_sim/mechanics/elasticity.h"
+#include "pair_detection.h"
 #include "wall_planes.h"
 
 namespace evsim::activation {
 
 using fields::SampleFields;
-using pairs::findPairs;
-using pairs::Pair;
-using pairs::pairNormal;
-using pairs::PointRef;
 using walls::depthOf;
 using walls::farExit;
 using walls::lastWallAlong;
@@ -69,72 +65,6 @@ int outerOf(const ContactProblem& pb, size_t d) {
 }
 
 namespace {
-
-/// Sample points of all devices at x that may pair: every free one, and the
-/// held ones within reach of a free one. A point of an inner device within
-/// its outer device's lumen, or less than a few radii beyond its tip, is marked:
-/// it touches the outer device through the lumen constraint, never as a pair.
-std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<DeviceState>& x) {
-  const auto& devices = *pb.devices;
-  const auto& samples = *pb.samples;
-  // A pair needs a free point, and its points closer than their radii: a
-  // held point beyond the free points' box grown by twice the largest
-  // radius pairs with none (most of a device still in its introducer), and
-  // neither does a held element's point when the element's box (its nodes',
-  // grown by half its length: more than any bow) misses it.
-  Eigen::AlignedBox3d box;
-  double rmax = 0.0;
-  std::vector<std::vector<char>> free(devices.size());  // per sample: takes part
-  std::vector<std::vector<Vec3>> at(devices.size());    // per free sample: its position
-  for (size_t d = 0; d < devices.size(); ++d) {
-    free[d].resize(samples[d].size());
-    at[d].resize(samples[d].size());
-    for (size_t k = 0; k < samples[d].size(); ++k) {
-      const SamplePoint& sp = samples[d][k];
-      rmax = std::max(rmax, sp.radius);
-      free[d][k] = takesPart(pb, d, sp);
-      if (!free[d][k] || (sp.element == x[d].cut_element && sp.xi > 0.0)) continue;
-      at[d][k] = samplePosition(devices[d], x[d], sp);
-      box.extend(at[d][k]);
-    }
-  }
-  if (box.isEmpty()) return {};
-  box.min().array() -= 2.0 * rmax;
-  box.max().array() += 2.0 * rmax;
-  auto elementMisses = [&](size_t d, int e) {
-    Eigen::AlignedBox3d span(x[d].position[e]);
-    span.extend(x[d].position[e + 1]);
-    span.min().array() -= 0.5 * devices[d].elements[e].length;
-    span.max().array() += 0.5 * devices[d].elements[e].length;
-    return !box.intersects(span);
-  };
-  std::vector<PointRef> pts;
-  for (size_t d = 0; d < devices.size(); ++d) {
-    const int outer = outerOf(pb, d);
-    const double reach = outer < 0
-                             ? 0.0
-                             : x[outer].inserted_length + 4.0 * devices[outer].node_radius.back() +
-                                   devices[outer].elements.back().length;
-    int missed = -1;  // the last held element found out of reach
-    for (size_t k = 0; k < samples[d].size(); ++k) {
-      const SamplePoint& sp = samples[d][k];
-      if (sp.element == x[d].cut_element && sp.xi > 0.0) continue;  // the detachment's gap
-      const bool part = free[d][k] != 0;
-      if (!part && (sp.element == missed || elementMisses(d, sp.element))) {
-        missed = sp.element;
-        continue;
-      }
-      const Vec3 p = part ? at[d][k] : samplePosition(devices[d], x[d], sp);
-      if (!part && !box.contains(p)) continue;
-      const double s = materialCoordinate(devices[d], sp);
-      const bool held =
-          outer >= 0 && !detached(x[d], sp) && pathLength(devices[d], x[d], s) < reach;
-      pts.push_back({part, static_cast<int>(d), static_cast<int>(k), sp.element, s, p, sp.radius,
-                     held ? outer : -1, detached(x[d], sp) ? 1 : 0});
-    }
-  }
-  return pts;
-}
 
 /// A contact of the previous step that carried a force, or ended touching
 /// (gap within `touching` [m]: a point resting with no force, which the
@@ -320,23 +250,6 @@ bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState
 
 namespace {
 
-/// The normal of a device pair at x, from b toward a.
-Vec3 pairNormalAt(const ContactProblem& pb, const std::vector<DeviceState>& x, const PointRef& a,
-                  const PointRef& b) {
-  const auto& samples = *pb.samples;
-  return pairNormal(a.p, sampleTangent(x[a.device], samples[a.device][a.sample]), b.p,
-                    sampleTangent(x[b.device], samples[b.device][b.sample]));
-}
-
-void addPair(const ContactProblem& pb, const PointRef& a, const PointRef& b, const Vec3& n,
-             LoopState* s) {
-  s->pair_contact[{a.device, a.sample, b.device, b.sample}] = static_cast<int>(s->contacts->size());
-  Contact ct{a.device, a.sample, b.p, n, 0, 0, b.device, b.sample};
-  ct.other = (*pb.samples)[b.device][b.sample];
-  ct.separation = a.r + b.r;
-  s->contacts->push_back(ct);
-}
-
 void addLumen(const ContactProblem& pb, const LumenViolation& v, LoopState* s) {
   s->lumen_contact[{v.device, v.sample}] = static_cast<int>(s->contacts->size());
   s->contacts->push_back(lumenContact(v, outerOf(pb, v.device)));
@@ -466,29 +379,6 @@ bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFiel
   return solved;
 }
 
-/// Device points closer than the sum of their radii less the tolerance at
-/// x: a pair's normal updated once a step, or a new pair. Returns false
-/// when there is one.
-bool redetectPairs(const ContactProblem& pb, const ContactOptions& o, LoopState* s) {
-  bool solved = true;
-  const std::vector<PointRef> pts = freePoints(pb, s->x);
-  for (const Pair& pr : findPairs(*pb.devices, pts, -o.penetration_tolerance)) {
-    solved = false;
-    const PointRef &a = pts[pr.a], &b = pts[pr.b];
-    const auto it = s->pair_contact.find({a.device, a.sample, b.device, b.sample});
-    if (it != s->pair_contact.end() && !s->updated[it->second]) {
-      Contact& ct = (*s->contacts)[it->second];  // the pair's normal at x
-      ct.normal = pairNormalAt(pb, s->x, a, b);
-      ct.point = b.p;
-      s->updated[it->second] = 1;
-    } else {
-      addPair(pb, a, b, pairNormalAt(pb, s->x, a, b), s);
-      s->updated.push_back(0);
-    }
-  }
-  return solved;
-}
-
 /// Like wall contacts: a point still beyond the lumen has its contact moved
 /// to the tangent plane where it now lies, once; beyond it again, it gets a
 /// second plane (updates alone converge slowly: measured on
@@ -544,9 +434,7 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
   // Device points closer than the sum of their radii at x_f.
   if (o.device_contact) {
     const auto tp = Clock::now();
-    const std::vector<PointRef> pts = freePoints(pb, s->xf);
-    for (const Pair& pr : findPairs(*pb.devices, pts, 0.0))
-      addPair(pb, pts[pr.a], pts[pr.b], pairNormalAt(pb, s->xf, pts[pr.a], pts[pr.b]), s);
+    for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->xf, 0.0)) addPair(f, s);
     ++st->pair_passes;
     st->pairs_ms += msSince(tp);
   }
@@ -610,22 +498,3 @@ bool checkTunnels(const ContactProblem& pb, const ContactOptions& o, SampleField
 }
 
 }  // namespace evsim::activation
-
-namespace evsim {
-
-std::vector<DeviceOverlap> deviceOverlaps(const ContactProblem& pb, double tolerance) {
-  const std::vector<pairs::PointRef> pts = activation::freePoints(pb, *pb.start);
-  std::map<std::array<int, 4>, double> deepest;  // (device, element, device, element) -> depth
-  for (const pairs::Pair& pr : pairs::findPairs(*pb.devices, pts, -tolerance)) {
-    const pairs::PointRef &a = pts[pr.a], &b = pts[pr.b];
-    double& depth = deepest[{a.device, a.element, b.device, b.element}];
-    depth = std::max(depth, a.r + b.r - pr.distance);
-  }
-  std::vector<DeviceOverlap> out;
-  for (const auto& [key, depth] : deepest) out.push_back({key[0], key[1], key[2], key[3], depth});
-  std::sort(out.begin(), out.end(),
-            [](const DeviceOverlap& x, const DeviceOverlap& y) { return x.depth > y.depth; });
-  return out;
-}
-
-}  // namespace evsim

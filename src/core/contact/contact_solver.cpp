@@ -125,7 +125,7 @@ void finishContacts(const ContactProblem& pb, const std::vector<DeviceState>& x,
   const auto& devices = *pb.devices;
   const auto& samples = *pb.samples;
   for (auto& ct : *contacts) {
-    const SamplePoint& s = samples[ct.device][ct.sample];
+    const SamplePoint& s = contactPointOf(ct, samples);
     const Vec3 p = samplePosition(devices[ct.device], x[ct.device], s);
     if (ct.other_device < 0) {
       ct.gap = ct.normal.dot(p - ct.point);

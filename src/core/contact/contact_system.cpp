@@ -202,7 +202,7 @@ void formRows(const ContactProblem& pb, const ContactOptions& o, const LoopState
   };
   for (int i = 0; i < sys->c; ++i) {
     Contact& ct = (*s.contacts)[i];
-    const SamplePoint& sp = samples[ct.device][ct.sample];
+    const SamplePoint& sp = contactPointOf(ct, samples);
     const Vec3 p = samplePosition(devices[ct.device], x[ct.device], sp);
     const int row = dim * i;
     sys->q(row) = addPart(row, ct.device, sp, ct.normal, 1.0);

@@ -1,6 +1,6 @@
-// Pairs of device sample points closer than the sum of their radii (the effect
-// 'device_contact'; internal to the contact solver, contact_solver.cpp).
-// Declared and documented in device_pairs.h.
+// Pairs of device elements whose axes come closer than the sum of their radii
+// (the effect 'device_contact'; internal to the contact solver,
+// contact_solver.cpp). Declared and documented in device_pairs.h.
 #include "device_pairs.h"
 
 #include <algorithm>
@@ -29,7 +29,7 @@ namespace {
 
 constexpr int64_t kLow21 = (int64_t{1} << 21) - 1;
 
-/// The points sorted by grid cell, key (z, y, x) with x least significant:
+/// Points sorted by grid cell, key (z, y, x) with x least significant:
 /// row by row ((z, y) fixed), each row in x order, and an open-addressing
 /// hash from a row's key to its range.
 struct CellRows {
@@ -42,15 +42,14 @@ struct CellRows {
   std::vector<Row> rows;                        // the rows in sorted order
   int bits{4};
 
-  CellRows(const std::vector<PointRef>& pts, double cell) {
+  CellRows(const std::vector<Vec3>& pts, double cell) {
     auto cellOf = [cell](double v) {
       return static_cast<int64_t>(std::floor(v / cell)) + (1 << 20);
     };
     const int n = static_cast<int>(pts.size());
     sorted.resize(n);
     for (int i = 0; i < n; ++i)
-      sorted[i] = {cellOf(pts[i].p.z()) << 42 | cellOf(pts[i].p.y()) << 21 | cellOf(pts[i].p.x()),
-                   i};
+      sorted[i] = {cellOf(pts[i].z()) << 42 | cellOf(pts[i].y()) << 21 | cellOf(pts[i].x()), i};
     std::sort(sorted.begin(), sorted.end());
     while ((1 << bits) < 2 * n) ++bits;
     table.resize(size_t{1} << bits);
@@ -83,20 +82,135 @@ struct Candidate {
 
 /// Per pair of elements the closest candidate (the first index pair on
 /// ties, as a scan in index order would keep).
-std::vector<Pair> closestPerElementPair(std::vector<Candidate> found) {
+std::vector<PointPair> closestPerElementPair(std::vector<Candidate> found) {
   std::sort(found.begin(), found.end(), [](const Candidate& x, const Candidate& y) {
     if (x.elements != y.elements) return x.elements < y.elements;
     if (x.distance != y.distance) return x.distance < y.distance;
     return x.a != y.a ? x.a < y.a : x.b < y.b;
   });
-  std::vector<Pair> out;
+  std::vector<PointPair> out;
   for (size_t k = 0; k < found.size(); ++k)
     if (k == 0 || found[k].elements != found[k - 1].elements)
       out.push_back({found[k].a, found[k].b, found[k].distance});
   return out;
 }
 
+/// The parameters in [0, 1]^2 of the closest points of segments p0 p1 and
+/// q0 q1 (Ericson, Real-Time Collision Detection, 5.1.9).
+void closestOnSegments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1, double* s,
+                       double* t) {
+  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  *s = *t = 0.0;
+  if (!(a > 0.0) && !(e > 0.0)) return;
+  if (!(a > 0.0)) {
+    *t = std::clamp(f / e, 0.0, 1.0);
+    return;
+  }
+  const double c = d1.dot(r);
+  if (!(e > 0.0)) {
+    *s = std::clamp(-c / a, 0.0, 1.0);
+    return;
+  }
+  const double b = d1.dot(d2), denominator = a * e - b * b;
+  *s = denominator > 0.0 ? std::clamp((b * f - c * e) / denominator, 0.0, 1.0) : 0.0;
+  *t = (b * *s + f) / e;
+  if (*t < 0.0) {
+    *t = 0.0;
+    *s = std::clamp(-c / a, 0.0, 1.0);
+  } else if (*t > 1.0) {
+    *t = 1.0;
+    *s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+}
+
+/// Newton on |p(xi) - y|^2 / 2 along one element's axis, xi kept in [0, 1].
+double closestOnAxis(const DeviceModel& m, const DeviceState& x, int e, const Vec3& y, double xi) {
+  for (int it = 0; it < 8; ++it) {
+    const AxisPoint a = axisPoint(m, x, e, xi);
+    const Vec3 r = a.position - y;
+    const double g = a.first.dot(r), h = a.second.dot(r) + a.first.squaredNorm();
+    if (!(h > 0.0)) break;
+    const double next = std::clamp(xi - g / h, 0.0, 1.0);
+    const bool done = std::abs(next - xi) < 1e-13;
+    xi = next;
+    if (done) break;
+  }
+  return xi;
+}
+
+/// Material coordinate of a point of an element [m].
+double along(const DeviceModel& m, int e, double xi) {
+  return m.node_s[e] + xi * m.elements[e].length;
+}
+
+/// Whether the element after e on its body holds e's distal node as its own
+/// proximal one (a closest point there is that element's, not e's).
+bool nextHoldsEnd(const DeviceModel& m, const DeviceState& x, int e) {
+  return e + 1 < m.num_nodes - 1 && e + 1 != x.cut_element;
+}
+
 }  // namespace
+
+double axisBow(const DeviceModel& model, const DeviceState& x, int e) {
+  // p(xi) - chord(xi) = h10 (m0 - d) + h11 (m1 - d), d = p1 - p0, m the
+  // nodes' tangents times the element's length: |h10|, |h11| <= 4 / 27.
+  const Vec3 d = x.position[e + 1] - x.position[e];
+  const double L = model.elements[e].length;
+  return 4.0 / 27.0 *
+         ((L * (x.rotation[e] * Vec3::UnitX()) - d).norm() +
+          (L * (x.rotation[e + 1] * Vec3::UnitX()) - d).norm());
+}
+
+Eigen::AlignedBox3d axisBox(const DeviceModel& model, const DeviceState& x, int e) {
+  const double bow = axisBow(model, x, e);
+  Eigen::AlignedBox3d box(x.position[e]);
+  box.extend(x.position[e + 1]);
+  return Eigen::AlignedBox3d(box.min().array() - bow, box.max().array() + bow);
+}
+
+double closestAxisPoints(const DeviceModel& ma, const DeviceState& xa, int ea,
+                         const DeviceModel& mb, const DeviceState& xb, int eb, double* xi_a,
+                         double* xi_b) {
+  closestOnSegments(xa.position[ea], xa.position[ea + 1], xb.position[eb], xb.position[eb + 1],
+                    xi_a, xi_b);
+  // The axes bow off their chords (a coil's element by about L^2 kappa / 8):
+  // Newton on f = |p_a(xi_a) - p_b(xi_b)|^2 / 2 in both parameters from the
+  // chords' answer, kept in [0, 1]^2; a parameter on its bound gets the
+  // other's best for it; where the Hessian is singular (the axes parallel
+  // there: a coil's touching turns) one round of one-dimensional steps, as
+  // the distance hardly changes along them.
+  for (int it = 0; it < 12; ++it) {
+    const AxisPoint a = axisPoint(ma, xa, ea, *xi_a), b = axisPoint(mb, xb, eb, *xi_b);
+    const Vec3 r = a.position - b.position;
+    const double ga = a.first.dot(r), gb = -b.first.dot(r);
+    const double haa = a.second.dot(r) + a.first.squaredNorm();
+    const double hbb = -b.second.dot(r) + b.first.squaredNorm();
+    const double hab = -a.first.dot(b.first);
+    const double det = haa * hbb - hab * hab;
+    double na, nb;
+    if (det > 1e-9 * haa * hbb && haa > 0.0) {
+      na = std::clamp(*xi_a - (hbb * ga - hab * gb) / det, 0.0, 1.0);
+      nb = std::clamp(*xi_b - (haa * gb - hab * ga) / det, 0.0, 1.0);
+      const bool clamped = na == 0.0 || na == 1.0 || nb == 0.0 || nb == 1.0;
+      if (clamped) {  // the other parameter's best for the clamped one
+        if (na == 0.0 || na == 1.0)
+          nb = closestOnAxis(mb, xb, eb, axisPoint(ma, xa, ea, na).position, nb);
+        if (nb == 0.0 || nb == 1.0)
+          na = closestOnAxis(ma, xa, ea, axisPoint(mb, xb, eb, nb).position, na);
+      }
+    } else {  // parallel there: the distance hardly changes along them, one round
+      na = closestOnAxis(ma, xa, ea, b.position, *xi_a);
+      nb = closestOnAxis(mb, xb, eb, axisPoint(ma, xa, ea, na).position, *xi_b);
+      *xi_a = na, *xi_b = nb;
+      break;
+    }
+    const bool settled = std::abs(na - *xi_a) < 1e-13 && std::abs(nb - *xi_b) < 1e-13;
+    *xi_a = na, *xi_b = nb;
+    if (settled) break;
+  }
+  return (axisPoint(ma, xa, ea, *xi_a).position - axisPoint(mb, xb, eb, *xi_b).position).norm();
+}
 
 /// Pairs of points, at least one of them free, closer than the sum of their
 /// radii plus `margin`, from a grid of cells (CellRows). On one body (a
@@ -105,11 +219,13 @@ std::vector<Pair> closestPerElementPair(std::vector<Candidate> found) {
 /// device always touch); the pusher's tip and the detached coil's end are
 /// two bodies and touch as any pair. Per pair of elements the closest pair
 /// only.
-std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
-                            const std::vector<PointRef>& pts, double margin) {
+std::vector<PointPair> findPointPairs(const std::vector<DeviceModel>& devices,
+                                      const std::vector<PointRef>& pts, double margin) {
   double rmax = 0.0;
   for (const auto& q : pts) rmax = std::max(rmax, q.r);
-  const CellRows grid(pts, 2.0 * rmax + margin);
+  std::vector<Vec3> at(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) at[i] = pts[i].p;
+  const CellRows grid(at, 2.0 * rmax + margin);
   std::vector<Candidate> found;
   auto check = [&](int at, int k) {
     const int i = grid.sorted[at].second, j = grid.sorted[k].second;
@@ -156,6 +272,124 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
     }
   }
   return closestPerElementPair(std::move(found));
+}
+
+/// Pairs of elements, at least one of them free, whose axes come closer
+/// than the sum of their radii plus `margin`: the elements whose boxes
+/// (grown by their radii) come within the margin of each other, from a grid
+/// of their centres (CellRows, cells as wide as the boxes in it, so that
+/// each pair of boxes that can meet is looked at once), then the closest
+/// points of their axes (closestAxisPoints). On one body (a device, or
+/// either part of a detached one) only points more than 2 (r_a + r_b) plus
+/// two element lengths apart along it count (neighbours along a device
+/// always touch); the pusher's tip and the detached coil's end are two
+/// bodies and touch as any pair. A closest point at an element's distal
+/// node is left to the next element, whose proximal node it is: one
+/// contact there, not two. Sorted by (device, element) pairs.
+std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
+                            const std::vector<DeviceState>& x, const std::vector<ElementRef>& els,
+                            double margin) {
+  const double reach = std::max(0.0, margin);
+  std::vector<Pair> out;
+  if (els.empty()) return out;
+  // Cells as wide as nine in ten boxes: the few wider ones (a pusher's or a
+  // catheter's long elements among a coil's short ones) are tested against
+  // every element instead, so that they do not coarsen the grid.
+  std::vector<double> widths(els.size());
+  for (size_t i = 0; i < els.size(); ++i) widths[i] = els[i].box.sizes().maxCoeff();
+  std::vector<double> sorted = widths;
+  const size_t q = sorted.size() * 9 / 10;
+  std::nth_element(sorted.begin(), sorted.begin() + q, sorted.end());
+  const double cell_width = sorted[q];
+  std::vector<Vec3> centres;
+  std::vector<int> small, large;
+  for (size_t i = 0; i < els.size(); ++i) {
+    if (widths[i] <= cell_width) {
+      small.push_back(static_cast<int>(i));
+      centres.push_back(els[i].box.center());
+    } else {
+      large.push_back(static_cast<int>(i));
+    }
+  }
+  auto check = [&](int i, int j) {
+    const int ia = std::min(i, j), ib = std::max(i, j);
+    const ElementRef& a = els[ia];
+    const ElementRef& b = els[ib];
+    if (!a.free && !b.free) return;
+    if (a.in_lumen_of == b.device || b.in_lumen_of == a.device) return;
+    if (a.box.squaredExteriorDistance(b.box) > reach * reach) return;
+    const DeviceModel& ma = devices[a.device];
+    const DeviceModel& mb = devices[b.device];
+    const double ra = a.point.radius, rb = b.point.radius;
+    const bool one_body = a.device == b.device && a.body == b.body;
+    const double exempt = one_body ? 2.0 * (ra + rb) + 2.0 * std::max(ma.elements[a.element].length,
+                                                                      mb.elements[b.element].length)
+                                   : 0.0;
+    if (one_body) {  // every point pair of the two elements exempt: neighbours
+      const double a0 = along(ma, a.element, 0.0), a1 = along(ma, a.element, 1.0);
+      const double b0 = along(mb, b.element, 0.0), b1 = along(mb, b.element, 1.0);
+      if (std::max(std::abs(a1 - b0), std::abs(b1 - a0)) <= exempt) return;
+    }
+    // The chords first: axes that stray from them by less than their bows
+    // cannot come within reach when the chords do not.
+    {
+      double s = 0.0, t = 0.0;
+      closestOnSegments(x[a.device].position[a.element], x[a.device].position[a.element + 1],
+                        x[b.device].position[b.element], x[b.device].position[b.element + 1], &s,
+                        &t);
+      const Vec3 pa = x[a.device].position[a.element] +
+                      s * (x[a.device].position[a.element + 1] - x[a.device].position[a.element]);
+      const Vec3 pb = x[b.device].position[b.element] +
+                      t * (x[b.device].position[b.element + 1] - x[b.device].position[b.element]);
+      if ((pa - pb).norm() - a.bow - b.bow >= ra + rb + margin) return;
+    }
+    Pair pr{ia, ib, a.point, b.point, Vec3::Zero(), Vec3::Zero(), 0.0};
+    pr.distance = closestAxisPoints(ma, x[a.device], a.element, mb, x[b.device], b.element,
+                                    &pr.on_a.xi, &pr.on_b.xi);
+    if (!(pr.distance < ra + rb + margin)) return;
+    if (one_body &&
+        std::abs(along(ma, a.element, pr.on_a.xi) - along(mb, b.element, pr.on_b.xi)) <= exempt)
+      return;
+    if ((pr.on_a.xi == 1.0 && nextHoldsEnd(ma, x[a.device], a.element)) ||
+        (pr.on_b.xi == 1.0 && nextHoldsEnd(mb, x[b.device], b.element)))
+      return;
+    pr.pa = samplePosition(ma, x[a.device], pr.on_a);
+    pr.pb = samplePosition(mb, x[b.device], pr.on_b);
+    out.push_back(pr);
+  };
+  for (size_t k = 0; k < large.size(); ++k) {
+    for (int j : small) check(large[k], j);
+    for (size_t l = k + 1; l < large.size(); ++l) check(large[k], large[l]);
+  }
+  if (small.empty()) return out;
+  const CellRows grid(centres, cell_width + reach);
+  auto checkCells = [&](int at, int k) {
+    check(small[grid.sorted[at].second], small[grid.sorted[k].second]);
+  };
+  // Each pair of cells is visited once, row against row (both in x order,
+  // so a window x - 1 ... x + 1 slides along the other row): a row with
+  // itself (a point against the later points of its cell and of x + 1),
+  // and with the rows (z, y + 1) and (z + 1, y - 1 ... y + 1), looked up
+  // once a row, not once a point.
+  constexpr int64_t kRowStep[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
+  for (const CellRows::Row& row : grid.rows) {
+    for (int at = row.begin; at < row.end; ++at)
+      for (int k = at + 1; k < row.end && grid.x(k) <= grid.x(at) + 1; ++k) checkCells(at, k);
+    const int64_t y = row.key & kLow21, z = row.key >> 21;
+    for (const auto& step : kRowStep) {
+      const CellRows::Row& other = grid.row(z + step[0], y + step[1]);
+      if (other.key == -1) continue;
+      int first = other.begin;  // the first point of the other row at x - 1 or beyond
+      for (int at = row.begin; at < row.end; ++at) {
+        const int64_t x0 = grid.x(at);
+        while (first < other.end && grid.x(first) < x0 - 1) ++first;
+        for (int k = first; k < other.end && grid.x(k) <= x0 + 1; ++k) checkCells(at, k);
+      }
+    }
+  }
+  std::sort(out.begin(), out.end(),
+            [](const Pair& p, const Pair& q) { return p.a != q.a ? p.a < q.a : p.b < q.b; });
+  return out;
 }
 
 }  // namespace pairs

@@ -127,7 +127,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
           "max_subdivisions", "contact_spacing", "penetration_tolerance", "root_tolerance",
           "wall_curvature", "curvature_loops", "interior_balls", "detect_on_first_iterate",
           "columns_on_demand", "lumen_settle", "friction_solver", "friction_tolerance",
-          "friction_max_sweeps"});
+          "friction_max_sweeps", "element_pairs"});
   if (n["solver"]) {
     try {
       o.lcp.solver = lcpSolverFromName(r.text(n["solver"], "contact.solver"));
@@ -162,6 +162,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   o.interior_balls = flag("interior_balls", o.interior_balls);
   o.detect_on_first_iterate = flag("detect_on_first_iterate", o.detect_on_first_iterate);
   o.columns_on_demand = flag("columns_on_demand", o.columns_on_demand);
+  o.element_pairs = flag("element_pairs", o.element_pairs);
   o.lumen_settle = r.number(n, "lumen_settle", "contact.", o.lumen_settle);
   if (n["friction_solver"]) {
     try {

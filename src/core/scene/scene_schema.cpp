@@ -203,6 +203,10 @@ std::vector<SchemaEntry> makeSchema() {
       Key("contact.columns_on_demand", T::kBool,
           "frictionless status method: W's columns formed as the method reads them")
           .def("true"),
+      Key("contact.element_pairs", T::kBool,
+          "effect 'device_contact': pairs between the elements' axes, at their closest points "
+          "(false: between sample points; docs/model.md)")
+          .def("false"),
       Key("contact.lumen_settle", T::kNumber,
           "effect 'coaxial': the loop goes on while a point held by the lumen's curvature slid "
           "more than this fraction of the clearance")

@@ -63,7 +63,8 @@ void checkDeviceOverlaps(const SceneSpec& spec, const SceneModel& m) {
   pb.workspaces = &data.workspaces;
   pb.samples = &m.samples;
   pb.outer_of = &m.outer_of;
-  const std::vector<DeviceOverlap> overlaps = deviceOverlaps(pb, kTolerance);
+  const std::vector<DeviceOverlap> overlaps =
+      deviceOverlaps(pb, kTolerance, m.contact.element_pairs);
   if (overlaps.empty()) return;
   const DeviceOverlap& o = overlaps.front();
   std::ostringstream why;

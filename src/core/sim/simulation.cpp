@@ -358,7 +358,7 @@ void measureForcesSince(const SceneModel& model, SimData* data,
   };
   for (const Contact& c : data->contacts) {
     const Vec3 f = c.force * c.normal + c.friction;  // on c.device's point
-    if (atTip(c.device, model.samples[c.device][c.sample])) data->tip_forces[c.device] += f;
+    if (atTip(c.device, contactPointOf(c, model.samples))) data->tip_forces[c.device] += f;
     if (c.other_device >= 0 && !c.lumen && atTip(c.other_device, c.other))
       data->tip_forces[c.other_device] -= f;
   }

@@ -15,7 +15,8 @@
 namespace evsim {
 namespace {
 
-constexpr int kVersion = 2;  // 1: without the sleep fields of `clock` (read as awake)
+constexpr int kVersion = 3;  // 1: without the sleep fields of `clock` (read as awake); 2:
+                             // without a pair contact's own point (read as its sample)
 
 /// One record per line: a key, then fields read in order; every error names
 /// the file, the line and the field. A wrong value that leaves the file
@@ -137,8 +138,10 @@ bool saveState(const SceneModel& model, const SimData& data, const std::string& 
     writeVec3(f, c.normal);
     std::fprintf(f, " %.17g %.17g %d %d", c.gap, c.force, c.other_device, c.other_sample);
     writeVec3(f, c.friction);
-    std::fprintf(f, " %d %.17g %.17g %.17g %.17g %d\n", c.other.element, c.other.xi, c.other.radius,
+    std::fprintf(f, " %d %.17g %.17g %.17g %.17g %d", c.other.element, c.other.xi, c.other.radius,
                  c.other.friction, c.separation, c.lumen ? 1 : 0);
+    std::fprintf(f, " %d %.17g %.17g %.17g\n", c.self.element, c.self.xi, c.self.radius,
+                 c.self.friction);
   }
   const bool ok = !std::ferror(f);
   return std::fclose(f) == 0 && ok;
@@ -219,7 +222,7 @@ void readCommand(const SceneModel& model, int d, Reader* r, DriveCommand* c) {
 }
 
 /// The `contacts` count and one `contact` record each.
-std::vector<Contact> readContacts(const SceneModel& model, Reader* r) {
+std::vector<Contact> readContacts(const SceneModel& model, long version, Reader* r) {
   const int nd = static_cast<int>(model.devices.size());
   r->record("contacts");
   // At most a wall, a pair and a lumen contact per sample point, and their
@@ -252,6 +255,14 @@ std::vector<Contact> readContacts(const SceneModel& model, Reader* r) {
     c.other.friction = r->real("other mu");
     c.separation = r->real("separation");
     c.lumen = r->integer("lumen", 0, 1) == 1;
+    c.self = model.samples[c.device][c.sample];
+    if (version >= 3) {
+      c.self.element = static_cast<int>(
+          r->integer("element", 0, static_cast<long>(model.devices[c.device].elements.size()) - 1));
+      c.self.xi = r->real("xi");
+      c.self.radius = r->real("radius");
+      c.self.friction = r->real("mu");
+    }
     r->end("contact");
   }
   return contacts;
@@ -275,7 +286,7 @@ void loadState(const SceneModel& model, const std::string& path, SimData* data) 
   const int nd = static_cast<int>(model.devices.size());
   for (int d = 0; d < nd; ++d) readDevice(model, d, &r, &next.devices[d]);
   for (int d = 0; d < nd; ++d) readCommand(model, d, &r, &next.commands[d]);
-  next.contacts = readContacts(model, &r);
+  next.contacts = readContacts(model, version, &r);
   r.finish();  // every wrong value, before anything of the data changes
   data->devices.swap(next.devices);
   data->commands.swap(next.commands);

@@ -1,0 +1,249 @@
+// Device pairs as contacts (the effect 'device_contact'). Declared and
+// documented in pair_detection.h.
+#include "pair_detection.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <map>
+
+#include "device_pairs.h"
+#include "endovascular_sim/contact/coaxial.h"
+
+namespace evsim::activation {
+
+using pairs::ElementRef;
+using pairs::Pair;
+using pairs::pairNormal;
+using pairs::PointRef;
+
+namespace {
+
+/// Sample points of all devices at x that may pair: every free one, and the
+/// held ones within reach of a free one. A point of an inner device within
+/// its outer device's lumen, or less than a few radii beyond its tip, is marked:
+/// it touches the outer device through the lumen constraint, never as a pair.
+std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<DeviceState>& x) {
+  const auto& devices = *pb.devices;
+  const auto& samples = *pb.samples;
+  // A pair needs a free point, and its points closer than their radii: a
+  // held point beyond the free points' box grown by twice the largest
+  // radius pairs with none (most of a device still in its introducer), and
+  // neither does a held element's point when the element's box (its nodes',
+  // grown by half its length: more than any bow) misses it.
+  Eigen::AlignedBox3d box;
+  double rmax = 0.0;
+  std::vector<std::vector<char>> free(devices.size());  // per sample: takes part
+  std::vector<std::vector<Vec3>> at(devices.size());    // per free sample: its position
+  for (size_t d = 0; d < devices.size(); ++d) {
+    free[d].resize(samples[d].size());
+    at[d].resize(samples[d].size());
+    for (size_t k = 0; k < samples[d].size(); ++k) {
+      const SamplePoint& sp = samples[d][k];
+      rmax = std::max(rmax, sp.radius);
+      free[d][k] = takesPart(pb, d, sp);
+      if (!free[d][k] || (sp.element == x[d].cut_element && sp.xi > 0.0)) continue;
+      at[d][k] = samplePosition(devices[d], x[d], sp);
+      box.extend(at[d][k]);
+    }
+  }
+  if (box.isEmpty()) return {};
+  box.min().array() -= 2.0 * rmax;
+  box.max().array() += 2.0 * rmax;
+  auto elementMisses = [&](size_t d, int e) {
+    Eigen::AlignedBox3d span(x[d].position[e]);
+    span.extend(x[d].position[e + 1]);
+    span.min().array() -= 0.5 * devices[d].elements[e].length;
+    span.max().array() += 0.5 * devices[d].elements[e].length;
+    return !box.intersects(span);
+  };
+  std::vector<PointRef> pts;
+  for (size_t d = 0; d < devices.size(); ++d) {
+    const int outer = outerOf(pb, d);
+    const double reach = outer < 0
+                             ? 0.0
+                             : x[outer].inserted_length + 4.0 * devices[outer].node_radius.back() +
+                                   devices[outer].elements.back().length;
+    int missed = -1;  // the last held element found out of reach
+    for (size_t k = 0; k < samples[d].size(); ++k) {
+      const SamplePoint& sp = samples[d][k];
+      if (sp.element == x[d].cut_element && sp.xi > 0.0) continue;  // the detachment's gap
+      const bool part = free[d][k] != 0;
+      if (!part && (sp.element == missed || elementMisses(d, sp.element))) {
+        missed = sp.element;
+        continue;
+      }
+      const Vec3 p = part ? at[d][k] : samplePosition(devices[d], x[d], sp);
+      if (!part && !box.contains(p)) continue;
+      const double s = materialCoordinate(devices[d], sp);
+      const bool held =
+          outer >= 0 && !detached(x[d], sp) && pathLength(devices[d], x[d], s) < reach;
+      pts.push_back({part, static_cast<int>(d), static_cast<int>(k), sp.element, s, p, sp.radius,
+                     held ? outer : -1, detached(x[d], sp) ? 1 : 0});
+    }
+  }
+  return pts;
+}
+
+/// The elements of all devices at x that may pair: every one with a free
+/// node, and the held ones within reach of a free one. An element of an
+/// inner device within its outer device's lumen, or less than a few radii
+/// beyond its tip, is marked: it touches the outer device through the lumen
+/// constraint, never as a pair. The element cut by a detachment is none.
+std::vector<ElementRef> pairElements(const ContactProblem& pb, const std::vector<DeviceState>& x) {
+  const auto& devices = *pb.devices;
+  const auto& samples = *pb.samples;
+  // A pair needs a free element: a held one whose box misses the free
+  // ones' box pairs with none (most of a device still in its introducer).
+  std::vector<ElementRef> els;
+  size_t total = 0;
+  for (const DeviceModel& m : devices) total += m.elements.size();
+  els.reserve(total);
+  Eigen::AlignedBox3d reach_of_free;
+  for (size_t d = 0; d < devices.size(); ++d) {
+    const DeviceModel& m = devices[d];
+    const int first_free = (*pb.workspaces)[d].first_free_node;
+    const int outer = outerOf(pb, d);
+    const double reach = outer < 0
+                             ? 0.0
+                             : x[outer].inserted_length + 4.0 * devices[outer].node_radius.back() +
+                                   devices[outer].elements.back().length;
+    // Each node's tangent once (two elements share it): the axes' bows.
+    std::vector<Vec3> tangent(x[d].position.size());
+    for (size_t i = 0; i < tangent.size(); ++i) tangent[i] = x[d].rotation[i] * Vec3::UnitX();
+    int e = -1;
+    for (size_t k = 0; k < samples[d].size(); ++k) {
+      const SamplePoint& sp = samples[d][k];
+      if (sp.element == e || sp.xi == 1.0) continue;  // its first sample only
+      e = sp.element;
+      if (e == x[d].cut_element) continue;
+      ElementRef el{e + 1 >= first_free,
+                    static_cast<int>(d),
+                    e,
+                    detached(x[d], sp) ? 1 : 0,
+                    -1,
+                    static_cast<int>(k),
+                    sp,
+                    Eigen::AlignedBox3d(x[d].position[e]),
+                    0.0};
+      const Vec3 chord = x[d].position[e + 1] - x[d].position[e];
+      const double L = m.elements[e].length;
+      el.bow = 4.0 / 27.0 * ((L * tangent[e] - chord).norm() + (L * tangent[e + 1] - chord).norm());
+      el.box.extend(x[d].position[e + 1]);
+      el.box.min().array() -= sp.radius + el.bow;
+      el.box.max().array() += sp.radius + el.bow;
+      const double s = m.node_s[e];
+      if (outer >= 0 && !detached(x[d], sp) && pathLength(m, x[d], s) < reach)
+        el.in_lumen_of = outer;
+      if (el.free) reach_of_free.extend(el.box);
+      els.push_back(el);
+    }
+  }
+  if (reach_of_free.isEmpty()) return {};
+  els.erase(std::remove_if(els.begin(), els.end(),
+                           [&](const ElementRef& el) {
+                             return !el.free && !reach_of_free.intersects(el.box);
+                           }),
+            els.end());
+  return els;
+}
+
+}  // namespace
+
+/// The device pairs at x within `margin` [m]: sample points closer than
+/// the sum of their radii, their normal across both local axes; or
+/// (contact.element_pairs) elements whose axes come that close, at the
+/// axes' closest points, the normal from one to the other (across both
+/// local axes where they meet).
+std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
+                                   const std::vector<DeviceState>& x, double margin) {
+  const auto& samples = *pb.samples;
+  std::vector<FoundPair> out;
+  auto found = [&](int da, int sa, int ea, int db, int sb, int eb) {
+    FoundPair f;
+    f.device_a = da, f.sample_a = sa, f.element_a = ea;
+    f.device_b = db, f.sample_b = sb, f.element_b = eb;
+    return f;
+  };
+  if (!element_pairs) {
+    const std::vector<PointRef> pts = freePoints(pb, x);
+    for (const pairs::PointPair& pr : pairs::findPointPairs(*pb.devices, pts, margin)) {
+      const PointRef &a = pts[pr.a], &b = pts[pr.b];
+      FoundPair f = found(a.device, a.sample, a.element, b.device, b.sample, b.element);
+      f.key = {a.device, a.sample, b.device, b.sample};
+      f.on_a = samples[a.device][a.sample];
+      f.on_b = samples[b.device][b.sample];
+      f.at_b = b.p;
+      f.normal = pairNormal(a.p, sampleTangent(x[a.device], f.on_a), b.p,
+                            sampleTangent(x[b.device], f.on_b));
+      f.depth = a.r + b.r - pr.distance;
+      out.push_back(f);
+    }
+    return out;
+  }
+  const std::vector<ElementRef> els = pairElements(pb, x);
+  for (const Pair& pr : pairs::findPairs(*pb.devices, x, els, margin)) {
+    const ElementRef &a = els[pr.a], &b = els[pr.b];
+    FoundPair f = found(a.device, a.sample, a.element, b.device, b.sample, b.element);
+    f.key = {a.device, a.element, b.device, b.element};
+    f.on_a = pr.on_a;
+    f.on_b = pr.on_b;
+    f.at_b = pr.pb;
+    const double radii = pr.on_a.radius + pr.on_b.radius;
+    f.normal = pr.distance > 1e-6 * radii ? Vec3((pr.pa - pr.pb) / pr.distance)
+                                          : pairNormal(pr.pa, sampleTangent(x[a.device], pr.on_a),
+                                                       pr.pb, sampleTangent(x[b.device], pr.on_b));
+    f.depth = radii - pr.distance;
+    out.push_back(f);
+  }
+  return out;
+}
+
+void addPair(const FoundPair& f, LoopState* s) {
+  s->pair_contact[f.key] = static_cast<int>(s->contacts->size());
+  Contact ct{f.device_a, f.sample_a, f.at_b, f.normal, 0, 0, f.device_b, f.sample_b};
+  ct.self = f.on_a;
+  ct.other = f.on_b;
+  ct.separation = f.on_a.radius + f.on_b.radius;
+  s->contacts->push_back(ct);
+}
+
+bool redetectPairs(const ContactProblem& pb, const ContactOptions& o, LoopState* s) {
+  bool solved = true;
+  for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, -o.penetration_tolerance)) {
+    solved = false;
+    const auto it = s->pair_contact.find(f.key);
+    if (it != s->pair_contact.end() && !s->updated[it->second]) {
+      Contact& ct = (*s->contacts)[it->second];  // the pair at x
+      ct.normal = f.normal;
+      ct.point = f.at_b;
+      ct.self = f.on_a;
+      ct.other = f.on_b;
+      s->updated[it->second] = 1;
+    } else {
+      addPair(f, s);
+      s->updated.push_back(0);
+    }
+  }
+  return solved;
+}
+
+}  // namespace evsim::activation
+
+namespace evsim {
+
+std::vector<DeviceOverlap> deviceOverlaps(const ContactProblem& pb, double tolerance,
+                                          bool element_pairs) {
+  std::map<std::array<int, 4>, double> deepest;  // (device, element, device, element) -> depth
+  for (const activation::FoundPair& f :
+       activation::devicePairs(pb, element_pairs, *pb.start, -tolerance)) {
+    double& depth = deepest[{f.device_a, f.element_a, f.device_b, f.element_b}];
+    depth = std::max(depth, f.depth);
+  }
+  std::vector<DeviceOverlap> out;
+  for (const auto& [key, depth] : deepest) out.push_back({key[0], key[1], key[2], key[3], depth});
+  std::sort(out.begin(), out.end(),
+            [](const DeviceOverlap& x, const DeviceOverlap& y) { return x.depth > y.depth; });
+  return out;
+}
+
+}  // namespace evsim

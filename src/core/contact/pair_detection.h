@@ -1,0 +1,36 @@
+// Device pairs as contacts (the effect 'device_contact'): found at a
+// configuration between sample points or elements (contact.element_pairs;
+// device_pairs.h), added to the loop's contacts and re-detected in its
+// passes. Internal to the contact solver (contact_detection.cpp).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "activation_loop.h"
+
+namespace evsim::activation {
+
+/// A device pair found at x, between sample points or elements' axes.
+struct FoundPair {
+  std::array<int, 4> key;  // (device, sample or element, device, sample or element)
+  int device_a, sample_a, element_a, device_b, sample_b, element_b;
+  SamplePoint on_a, on_b;  // the pair's points
+  Vec3 at_b;               // b's point [m]
+  Vec3 normal;             // from b toward a
+  double depth;            // r_a + r_b - distance [m]
+};
+
+/// The device pairs at x within `margin` [m] (see pair_detection.cpp).
+std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
+                                   const std::vector<DeviceState>& x, double margin);
+
+/// A new pair contact in the loop's contacts.
+void addPair(const FoundPair& f, LoopState* s);
+
+/// Device pairs closer than the sum of their radii less the tolerance at
+/// the loop's x: a pair's points and normal moved to where they are at x
+/// once a step, or a new pair. Returns false when there is one.
+bool redetectPairs(const ContactProblem& pb, const ContactOptions& o, LoopState* s);
+
+}  // namespace evsim::activation
