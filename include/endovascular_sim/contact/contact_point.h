@@ -39,6 +39,11 @@ struct AxisPoint {
 };
 AxisPoint axisPoint(const DeviceModel& model, const DeviceState& state, int element, double xi);
 
+/// The parameter in [0, 1] of the point of an element's axis closest to y:
+/// Newton on |p(xi) - y|^2 / 2 from xi (at most 8 steps, to 1e-12).
+double closestAxisParameter(const DeviceModel& model, const DeviceState& state, int element,
+                            const Vec3& y, double xi);
+
 /// Row of H for a contact of normal n at a sample point.
 Row12 contactRow(const DeviceModel& model, const DeviceState& state, const SamplePoint& s,
                  const Vec3& n);

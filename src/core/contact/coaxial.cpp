@@ -18,23 +18,13 @@ void elementAt(const DeviceModel& model, double s, int* element, double* xi) {
   *xi = std::clamp((s - model.node_s[*element]) / model.elements[*element].length, 0.0, 1.0);
 }
 
-/// Closest point of one element's axis to y: Newton on
-/// f(xi) = |p(xi) - y|^2 / 2 from the chord's projection, xi kept in [0, 1].
+/// Closest point of one element's axis to y: Newton (closestAxisParameter)
+/// from the chord's projection.
 double closestOnElement(const DeviceModel& model, const DeviceState& x, int e, const Vec3& y,
                         double* distance) {
   const Vec3 chord = x.position[e + 1] - x.position[e];
-  double xi = std::clamp(chord.dot(y - x.position[e]) / chord.squaredNorm(), 0.0, 1.0);
-  for (int it = 0; it < 8; ++it) {
-    const AxisPoint a = axisPoint(model, x, e, xi);
-    const Vec3 r = a.position - y;
-    const double g = a.first.dot(r);
-    const double h = a.second.dot(r) + a.first.squaredNorm();
-    if (!(h > 0.0)) break;
-    const double next = std::clamp(xi - g / h, 0.0, 1.0);
-    const bool done = std::abs(next - xi) < 1e-12;
-    xi = next;
-    if (done) break;
-  }
+  const double xi = closestAxisParameter(
+      model, x, e, y, std::clamp(chord.dot(y - x.position[e]) / chord.squaredNorm(), 0.0, 1.0));
   *distance = (axisPoint(model, x, e, xi).position - y).norm();
   return xi;
 }

@@ -77,6 +77,22 @@ AxisPoint axisPoint(const DeviceModel& model, const DeviceState& state, int elem
   return out;
 }
 
+double closestAxisParameter(const DeviceModel& model, const DeviceState& state, int element,
+                            const Vec3& y, double xi) {
+  for (int it = 0; it < 8; ++it) {
+    const AxisPoint a = axisPoint(model, state, element, xi);
+    const Vec3 r = a.position - y;
+    const double g = a.first.dot(r);
+    const double h = a.second.dot(r) + a.first.squaredNorm();
+    if (!(h > 0.0)) break;
+    const double next = std::clamp(xi - g / h, 0.0, 1.0);
+    const bool done = std::abs(next - xi) < 1e-12;
+    xi = next;
+    if (done) break;
+  }
+  return xi;
+}
+
 Row12 contactRow(const DeviceModel& model, const DeviceState& state, const SamplePoint& s,
                  const Vec3& n) {
   const Hermite h(s.xi);

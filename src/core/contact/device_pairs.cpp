@@ -71,6 +71,31 @@ struct CellRows {
   /// The row (z, y), or one with key -1.
   const Row& row(int64_t z, int64_t y) const { return table[slot(z << 21 | y)]; }
   int64_t x(int k) const { return sorted[k].first & kLow21; }
+  /// Calls fn(at, k) for every pair of points (sorted indices) in the same
+  /// or neighbouring cells, once. Each pair of cells is visited once, row
+  /// against row (both in x order, so a window x - 1 ... x + 1 slides along
+  /// the other row): a row with itself (a point against the later points
+  /// of its cell and of x + 1), and with the rows (z, y + 1) and (z + 1,
+  /// y - 1 ... y + 1), looked up once a row, not once a point.
+  template <typename F>
+  void forNeighbours(F&& fn) const {
+    constexpr int64_t kRowStep[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
+    for (const Row& r : rows) {
+      for (int at = r.begin; at < r.end; ++at)
+        for (int k = at + 1; k < r.end && x(k) <= x(at) + 1; ++k) fn(at, k);
+      const int64_t y = r.key & kLow21, z = r.key >> 21;
+      for (const auto& step : kRowStep) {
+        const Row& other = row(z + step[0], y + step[1]);
+        if (other.key == -1) continue;
+        int first = other.begin;  // the first point of the other row at x - 1 or beyond
+        for (int at = r.begin; at < r.end; ++at) {
+          const int64_t x0 = x(at);
+          while (first < other.end && x(first) < x0 - 1) ++first;
+          for (int k = first; k < other.end && x(k) <= x0 + 1; ++k) fn(at, k);
+        }
+      }
+    }
+  }
 };
 
 /// A pair of points within reach, with its pair of elements.
@@ -122,21 +147,6 @@ void closestOnSegments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec
     *t = 1.0;
     *s = std::clamp((b - c) / a, 0.0, 1.0);
   }
-}
-
-/// Newton on |p(xi) - y|^2 / 2 along one element's axis, xi kept in [0, 1].
-double closestOnAxis(const DeviceModel& m, const DeviceState& x, int e, const Vec3& y, double xi) {
-  for (int it = 0; it < 8; ++it) {
-    const AxisPoint a = axisPoint(m, x, e, xi);
-    const Vec3 r = a.position - y;
-    const double g = a.first.dot(r), h = a.second.dot(r) + a.first.squaredNorm();
-    if (!(h > 0.0)) break;
-    const double next = std::clamp(xi - g / h, 0.0, 1.0);
-    const bool done = std::abs(next - xi) < 1e-13;
-    xi = next;
-    if (done) break;
-  }
-  return xi;
 }
 
 /// Material coordinate of a point of an element [m].
@@ -195,13 +205,13 @@ double closestAxisPoints(const DeviceModel& ma, const DeviceState& xa, int ea,
       const bool clamped = na == 0.0 || na == 1.0 || nb == 0.0 || nb == 1.0;
       if (clamped) {  // the other parameter's best for the clamped one
         if (na == 0.0 || na == 1.0)
-          nb = closestOnAxis(mb, xb, eb, axisPoint(ma, xa, ea, na).position, nb);
+          nb = closestAxisParameter(mb, xb, eb, axisPoint(ma, xa, ea, na).position, nb);
         if (nb == 0.0 || nb == 1.0)
-          na = closestOnAxis(ma, xa, ea, axisPoint(mb, xb, eb, nb).position, na);
+          na = closestAxisParameter(ma, xa, ea, axisPoint(mb, xb, eb, nb).position, na);
       }
     } else {  // parallel there: the distance hardly changes along them, one round
-      na = closestOnAxis(ma, xa, ea, b.position, *xi_a);
-      nb = closestOnAxis(mb, xb, eb, axisPoint(ma, xa, ea, na).position, *xi_b);
+      na = closestAxisParameter(ma, xa, ea, b.position, *xi_a);
+      nb = closestAxisParameter(mb, xb, eb, axisPoint(ma, xa, ea, na).position, *xi_b);
       *xi_a = na, *xi_b = nb;
       break;
     }
@@ -250,27 +260,7 @@ std::vector<PointPair> findPointPairs(const std::vector<DeviceModel>& devices,
                              static_cast<int64_t>(b.device) << 20 | b.element;
     found.push_back({elements, std::sqrt(dist2), ia, ib});
   };
-  // Each pair of cells is visited once, row against row (both in x order,
-  // so a window x - 1 ... x + 1 slides along the other row): a row with
-  // itself (a point against the later points of its cell and of x + 1),
-  // and with the rows (z, y + 1) and (z + 1, y - 1 ... y + 1), looked up
-  // once a row, not once a point.
-  constexpr int64_t kRowStep[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
-  for (const CellRows::Row& row : grid.rows) {
-    for (int at = row.begin; at < row.end; ++at)
-      for (int k = at + 1; k < row.end && grid.x(k) <= grid.x(at) + 1; ++k) check(at, k);
-    const int64_t y = row.key & kLow21, z = row.key >> 21;
-    for (const auto& step : kRowStep) {
-      const CellRows::Row& other = grid.row(z + step[0], y + step[1]);
-      if (other.key == -1) continue;
-      int first = other.begin;  // the first point of the other row at x - 1 or beyond
-      for (int at = row.begin; at < row.end; ++at) {
-        const int64_t x = grid.x(at);
-        while (first < other.end && grid.x(first) < x - 1) ++first;
-        for (int k = first; k < other.end && grid.x(k) <= x + 1; ++k) check(at, k);
-      }
-    }
-  }
+  grid.forNeighbours(check);
   return closestPerElementPair(std::move(found));
 }
 
@@ -366,27 +356,7 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
   auto checkCells = [&](int at, int k) {
     check(small[grid.sorted[at].second], small[grid.sorted[k].second]);
   };
-  // Each pair of cells is visited once, row against row (both in x order,
-  // so a window x - 1 ... x + 1 slides along the other row): a row with
-  // itself (a point against the later points of its cell and of x + 1),
-  // and with the rows (z, y + 1) and (z + 1, y - 1 ... y + 1), looked up
-  // once a row, not once a point.
-  constexpr int64_t kRowStep[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
-  for (const CellRows::Row& row : grid.rows) {
-    for (int at = row.begin; at < row.end; ++at)
-      for (int k = at + 1; k < row.end && grid.x(k) <= grid.x(at) + 1; ++k) checkCells(at, k);
-    const int64_t y = row.key & kLow21, z = row.key >> 21;
-    for (const auto& step : kRowStep) {
-      const CellRows::Row& other = grid.row(z + step[0], y + step[1]);
-      if (other.key == -1) continue;
-      int first = other.begin;  // the first point of the other row at x - 1 or beyond
-      for (int at = row.begin; at < row.end; ++at) {
-        const int64_t x0 = grid.x(at);
-        while (first < other.end && grid.x(first) < x0 - 1) ++first;
-        for (int k = first; k < other.end && grid.x(k) <= x0 + 1; ++k) checkCells(at, k);
-      }
-    }
-  }
+  grid.forNeighbours(checkCells);
   std::sort(out.begin(), out.end(),
             [](const Pair& p, const Pair& q) { return p.a != q.a ? p.a < q.a : p.b < q.b; });
   return out;
