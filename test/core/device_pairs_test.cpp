@@ -12,6 +12,7 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <string>
 #include <tuple>
 
 namespace evsim {
@@ -21,6 +22,19 @@ using pairs::ElementRef;
 using pairs::Pair;
 using pairs::PointPair;
 using pairs::PointRef;
+
+/// The grid's pairs equal the brute force's, in order, to the last bit;
+/// returns how many.
+template <typename P>
+int expectSamePairs(const std::vector<P>& grid, const std::vector<P>& brute) {
+  EXPECT_EQ(grid.size(), brute.size());
+  for (size_t k = 0; k < grid.size() && k < brute.size(); ++k) {
+    EXPECT_EQ(grid[k].a, brute[k].a);
+    EXPECT_EQ(grid[k].b, brute[k].b);
+    EXPECT_EQ(grid[k].distance, brute[k].distance);
+  }
+  return static_cast<int>(grid.size());
+}
 
 /// Every pair i < j, kept under the documented rules: one point free, not
 /// in the other device's lumen, closer than r_i + r_j + margin and not
@@ -70,16 +84,10 @@ TEST(DevicePairs, PointGridSearchFindsExactlyTheBruteForcePairs) {
                        device == 1 && u(rng) < 0.2 ? 0 : -1});
       }
     for (double margin : {0.0, -1e-6, 5e-5}) {
-      const std::vector<PointPair> grid = pairs::findPointPairs(devices, pts, margin);
-      const std::vector<PointPair> brute = bruteForcePointPairs(devices, pts, margin);
-      ASSERT_EQ(grid.size(), brute.size()) << "trial " << trial << " margin " << margin;
-      for (size_t k = 0; k < grid.size(); ++k) {
-        EXPECT_EQ(grid[k].a, brute[k].a);
-        EXPECT_EQ(grid[k].b, brute[k].b);
-        EXPECT_EQ(grid[k].distance, brute[k].distance);
-      }
+      SCOPED_TRACE("trial " + std::to_string(trial) + " margin " + std::to_string(margin));
+      found += expectSamePairs(pairs::findPointPairs(devices, pts, margin),
+                               bruteForcePointPairs(devices, pts, margin));
       ++compared;
-      found += static_cast<int>(grid.size());
     }
   }
   EXPECT_EQ(compared, 60);
@@ -176,16 +184,10 @@ TEST(DevicePairs, GridSearchFindsExactlyTheBruteForcePairs) {
       }
     }
     for (double margin : {0.0, -1e-6, 5e-5}) {
-      const std::vector<Pair> grid = pairs::findPairs(devices, x, els, margin);
-      const std::vector<Pair> brute = bruteForcePairs(devices, x, els, margin);
-      ASSERT_EQ(grid.size(), brute.size()) << "trial " << trial << " margin " << margin;
-      for (size_t k = 0; k < grid.size(); ++k) {
-        EXPECT_EQ(grid[k].a, brute[k].a);
-        EXPECT_EQ(grid[k].b, brute[k].b);
-        EXPECT_EQ(grid[k].distance, brute[k].distance);
-      }
+      SCOPED_TRACE("trial " + std::to_string(trial) + " margin " + std::to_string(margin));
+      found += expectSamePairs(pairs::findPairs(devices, x, els, margin),
+                               bruteForcePairs(devices, x, els, margin));
       ++compared;
-      found += static_cast<int>(grid.size());
     }
   }
   EXPECT_EQ(compared, 36);

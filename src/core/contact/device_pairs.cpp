@@ -162,14 +162,16 @@ bool nextHoldsEnd(const DeviceModel& m, const DeviceState& x, int e) {
 
 }  // namespace
 
-double axisBow(const DeviceModel& model, const DeviceState& x, int e) {
+double axisBow(double L, const Vec3& p0, const Vec3& p1, const Vec3& t0, const Vec3& t1) {
   // p(xi) - chord(xi) = h10 (m0 - d) + h11 (m1 - d), d = p1 - p0, m the
   // nodes' tangents times the element's length: |h10|, |h11| <= 4 / 27.
-  const Vec3 d = x.position[e + 1] - x.position[e];
-  const double L = model.elements[e].length;
-  return 4.0 / 27.0 *
-         ((L * (x.rotation[e] * Vec3::UnitX()) - d).norm() +
-          (L * (x.rotation[e + 1] * Vec3::UnitX()) - d).norm());
+  const Vec3 d = p1 - p0;
+  return 4.0 / 27.0 * ((L * t0 - d).norm() + (L * t1 - d).norm());
+}
+
+double axisBow(const DeviceModel& model, const DeviceState& x, int e) {
+  return axisBow(model.elements[e].length, x.position[e], x.position[e + 1],
+                 x.rotation[e] * Vec3::UnitX(), x.rotation[e + 1] * Vec3::UnitX());
 }
 
 Eigen::AlignedBox3d axisBox(const DeviceModel& model, const DeviceState& x, int e) {

@@ -64,7 +64,10 @@ struct Pair {
 Vec3 pairNormal(const Vec3& pa, const Vec3& ta, const Vec3& pb, const Vec3& tb);
 
 /// A bound [m] of how far an element's axis (cubic Hermite,
-/// contact_point.h) strays from its chord.
+/// contact_point.h) of length L [m] strays from its chord p1 - p0, its
+/// nodes' unit tangents t0, t1.
+double axisBow(double L, const Vec3& p0, const Vec3& p1, const Vec3& t0, const Vec3& t1);
+/// The same for an element of a device in a configuration.
 double axisBow(const DeviceModel& model, const DeviceState& x, int element);
 
 /// The box of an element's axis: its nodes' box grown by axisBow [m].

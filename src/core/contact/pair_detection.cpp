@@ -125,9 +125,8 @@ std::vector<ElementRef> pairElements(const ContactProblem& pb, const std::vector
                     sp,
                     Eigen::AlignedBox3d(x[d].position[e]),
                     0.0};
-      const Vec3 chord = x[d].position[e + 1] - x[d].position[e];
-      const double L = m.elements[e].length;
-      el.bow = 4.0 / 27.0 * ((L * tangent[e] - chord).norm() + (L * tangent[e + 1] - chord).norm());
+      el.bow = pairs::axisBow(m.elements[e].length, x[d].position[e], x[d].position[e + 1],
+                              tangent[e], tangent[e + 1]);
       el.box.extend(x[d].position[e + 1]);
       el.box.min().array() -= sp.radius + el.bow;
       el.box.max().array() += sp.radius + el.bow;
