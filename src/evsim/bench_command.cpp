@@ -99,6 +99,41 @@ bool driveMoved(const std::vector<DeviceState>& before, const std::vector<Device
   return false;
 }
 
+/// Steps `model` from its start: `warmup` steps, then `steps` recorded.
+/// False (the reason on stderr) when a step fails.
+bool measure(const SceneModel& model, long warmup, long steps, bool strict,
+             std::vector<BenchStep>* record, int* recoveries) {
+  SimData data = makeData(model);
+  bool touched = false;  // a contact so far
+  record->reserve(steps);
+  for (long k = 0; k < warmup + steps; ++k) {
+    const std::vector<DeviceState> before = data.devices;
+    bool recovered = false;
+    const StepStatus status = strict ? step(model, &data) : stepOrRecover(model, &data, &recovered);
+    *recoveries += recovered;
+    if (status != StepStatus::kOk) {
+      std::cerr << "evsim: " << model.name << ": step " << data.step + 1 << " at t = " << data.time
+                << " s failed: " << data.last_error << "\n";
+      return false;
+    }
+    const StepStats& s = data.stats;
+    touched = touched || s.contacts > 0;
+    if (k < warmup) continue;
+    const Phase phase = !touched                           ? Phase::kFree
+                        : driveMoved(before, data.devices) ? Phase::kContact
+                                                           : Phase::kInserted;
+    record->push_back({s.wall_ms, s.contacts, s.active_contacts, s.activation_loops,
+                       s.subdivisions > 0, s.asleep, phase});
+  }
+  return true;
+}
+
+double medianMs(const std::vector<BenchStep>& steps) {
+  std::vector<double> ms;
+  for (const BenchStep& b : steps) ms.push_back(b.ms);
+  return quantile(ms, 0.5);
+}
+
 }  // namespace
 
 int benchScene(const BenchOptions& o) {
@@ -115,31 +150,9 @@ int benchScene(const BenchOptions& o) {
   const SceneModel model = buildSceneModel(spec);
   const long whole = std::max(1L, std::lround(model.duration / model.time_step));
   const long steps = o.steps > 0 ? o.steps : std::max(1L, whole - o.warmup);
-  SimData data = makeData(model);
-  bool touched = false;  // a contact so far
-  int recoveries = 0;    // steps solved with the recovery options
+  int recoveries = 0;  // steps solved with the recovery options
   std::vector<BenchStep> record;
-  record.reserve(steps);
-  for (long k = 0; k < o.warmup + steps; ++k) {
-    const std::vector<DeviceState> before = data.devices;
-    bool recovered = false;
-    const StepStatus status =
-        o.strict ? step(model, &data) : stepOrRecover(model, &data, &recovered);
-    recoveries += recovered;
-    if (status != StepStatus::kOk) {
-      std::cerr << "evsim: step " << data.step + 1 << " at t = " << data.time
-                << " s failed: " << data.last_error << "\n";
-      return kExitFailure;
-    }
-    const StepStats& s = data.stats;
-    touched = touched || s.contacts > 0;
-    if (k < o.warmup) continue;
-    const Phase phase = !touched                           ? Phase::kFree
-                        : driveMoved(before, data.devices) ? Phase::kContact
-                                                           : Phase::kInserted;
-    record.push_back({s.wall_ms, s.contacts, s.active_contacts, s.activation_loops,
-                      s.subdivisions > 0, s.asleep, phase});
-  }
+  if (!measure(model, o.warmup, steps, o.strict, &record, &recoveries)) return kExitFailure;
   int elements = 0;
   for (const auto& d : model.devices) elements += d.num_nodes - 1;
   std::string effect_list;
@@ -153,12 +166,30 @@ int benchScene(const BenchOptions& o) {
     std::printf("steps solved with the recovery options (sim/simulation.h): %d\n", recoveries);
   std::printf("step [ms] and real-time factor:\n");
   printSummary(record, model.time_step);
+  double large_median = 0.0;  // of the steps with >= o.min_rows rows [ms]
   if (o.min_rows > 0) {
     std::vector<BenchStep> large;
     for (const BenchStep& b : record)
       if (b.rows >= o.min_rows) large.push_back(b);
     std::printf("steps with >= %ld LCP rows: %zu of %ld\n", o.min_rows, large.size(), steps);
     if (!large.empty()) printSummary(large, model.time_step);
+    large_median = large.empty() ? 0.0 : medianMs(large);
+  }
+  if (!o.against.empty()) {  // a second scene's whole procedure in the same run
+    const SceneModel other = buildSceneModel(loadSceneFile(resolveScenePath(o.against)));
+    const long other_steps = std::max(1L, std::lround(other.duration / other.time_step));
+    std::vector<BenchStep> other_record;
+    int other_recoveries = 0;
+    if (!measure(other, 0, other_steps, o.strict, &other_record, &other_recoveries))
+      return kExitFailure;
+    const double base = medianMs(other_record);
+    std::printf("against %s (its whole procedure, %ld steps, in this run): median %.3f ms\n",
+                other.name.c_str(), other_steps, base);
+    std::printf("  %s whole: median %.3f ms = %.1fx\n", model.name.c_str(), medianMs(record),
+                medianMs(record) / base);
+    if (large_median > 0.0)
+      std::printf("  %s steps with >= %ld LCP rows: median %.3f ms = %.1fx\n", model.name.c_str(),
+                  o.min_rows, large_median, large_median / base);
   }
   return kExitOk;
 }

@@ -47,6 +47,7 @@ struct BenchOptions {
   long min_rows{0};                    // also report the steps with >= this many LCP rows
   bool strict{false};                  // no recovery step (see RunOptions::strict)
   bool no_sleep{false};                // every step solved, also at rest (SleepOptions)
+  std::string against;                 // a second scene run whole in the same run: the ratio
 };
 /// `evsim bench`: step-time statistics over the whole scene and per phase.
 int benchScene(const BenchOptions& options);

@@ -92,6 +92,8 @@ void addBench(CLI::App& app, BenchOptions* o, std::string* what, double* duratio
       ->add_option("--min-rows", o->min_rows,
                    "also report the steps whose last LCP has at least this many rows")
       ->check(CLI::Range(1L, 1000000L));
+  bench->add_option("--against", o->against,
+                    "a second scene, run whole in the same run: the medians' ratio printed");
   bench->add_flag("--strict", o->strict, "no recovery step: fail where the scene's options do");
   bench->add_flag("--no-sleep", o->no_sleep,
                   "solve every step, also once the scene is at rest (scene key sleep)");

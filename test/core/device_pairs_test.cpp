@@ -3,7 +3,8 @@
 // dense clouds and chains of two devices (self-pairs and pairs between
 // devices, held points and elements, lumens); and the closest points of two
 // straight wires crossed at angles from 5 to 90 degrees against the
-// analytic distance of their axes.
+// analytic distance of their axes; the swept test of a wire carried through
+// another in one step against where and when the two first touch.
 #include "contact/device_pairs.h"
 
 #include <gtest/gtest.h>
@@ -119,6 +120,19 @@ DeviceModel randomChain(int nodes, double length, double box, std::mt19937* rng,
   return m;
 }
 
+/// The element of sample point sp (its first) of a device at x, as the
+/// pair detection describes it: its axis, box and bow at x.
+ElementRef elementRef(const DeviceModel& m, const DeviceState& x, int device, const SamplePoint& sp,
+                      bool free = true, int in_lumen_of = -1) {
+  const int e = sp.element;
+  ElementRef el{free, device, e, 0, in_lumen_of, e, sp, pairs::axisBox(m, x, e)};
+  el.box.min().array() -= sp.radius;
+  el.box.max().array() += sp.radius;
+  el.axis = HermiteAxis::of(m, x, e);
+  el.bow = el.axis.bow();
+  return el;
+}
+
 /// Every pair of elements i < j under the documented rules (one free, not
 /// in the other device's lumen, the axes closer than r_i + r_j + margin,
 /// on one device more than 2 (r_i + r_j) + 2 element lengths apart along
@@ -168,19 +182,10 @@ TEST(DevicePairs, GridSearchFindsExactlyTheBruteForcePairs) {
     for (int device = 0; device < 2; ++device) {
       devices.push_back(randomChain(150, 5e-4, box, &rng, &x[device]));
       for (int e = 0; e + 1 < 150; ++e) {
-        SamplePoint sp{e, 0.0, 1e-4 + 5e-5 * u(rng), 0.0};
-        ElementRef el{u(rng) < 0.9,
-                      device,
-                      e,
-                      0,
-                      device == 1 && u(rng) < 0.2 ? 0 : -1,
-                      e,
-                      sp,
-                      pairs::axisBox(devices.back(), x[device], e)};
-        el.box.min().array() -= sp.radius;
-        el.box.max().array() += sp.radius;
-        el.bow = pairs::axisBow(devices.back(), x[device], e);
-        els.push_back(el);
+        const SamplePoint sp{e, 0.0, 1e-4 + 5e-5 * u(rng), 0.0};
+        const bool free = u(rng) < 0.9;
+        const int in_lumen_of = device == 1 && u(rng) < 0.2 ? 0 : -1;
+        els.push_back(elementRef(devices.back(), x[device], device, sp, free, in_lumen_of));
       }
     }
     for (double margin : {0.0, -1e-6, 5e-5}) {
@@ -194,6 +199,54 @@ TEST(DevicePairs, GridSearchFindsExactlyTheBruteForcePairs) {
   EXPECT_GT(found, 1000);  // the chains are dense enough to test something
   std::printf("[ metric   ] %d element pairs found in 36 chains, all equal to the brute force\n",
               found);
+}
+
+TEST(DevicePairs, CandidatesKeptFromPassToPassFindTheBruteForcePairs) {
+  // The activation loop's passes within a step move the elements a little:
+  // the candidates built at one pass (boxes grown by a skin) are reused
+  // while every element's box stays within its grown box, else rebuilt.
+  // Either way the pairs equal the brute force's at each pass.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0), jitter(-1.0, 1.0);
+  int found = 0;
+  pairs::PairCandidates candidates;
+  for (int trial = 0; trial < 8; ++trial) {
+    std::vector<DeviceModel> devices;
+    std::vector<DeviceState> x(2);
+    std::vector<SamplePoint> points;
+    for (int device = 0; device < 2; ++device) {
+      devices.push_back(randomChain(150, 5e-4, 3e-3, &rng, &x[device]));
+      for (int e = 0; e + 1 < 150; ++e) points.push_back({e, 0.0, 1e-4 + 5e-5 * u(rng), 0.0});
+    }
+    auto elementsAt = [&](const std::vector<DeviceState>& at) {
+      std::vector<ElementRef> els;
+      for (int device = 0; device < 2; ++device)
+        for (int e = 0; e + 1 < 150; ++e)
+          els.push_back(elementRef(devices[device], at[device], device, points[149 * device + e]));
+      return els;
+    };
+    candidates.reach = -1.0;  // a new step
+    const int builds = candidates.builds, reuses = candidates.reuses;
+    // Built here, then nodes moved by up to 0.2 and 5 skins.
+    for (double moved : {0.0, 0.2, 5.0}) {
+      SCOPED_TRACE("trial " + std::to_string(trial) + " moved " + std::to_string(moved));
+      std::vector<DeviceState> at = x;
+      for (DeviceState& state : at)
+        for (Vec3& p : state.position)
+          p += moved * candidates.skin / std::sqrt(3.0) *
+               Vec3(jitter(rng), jitter(rng), jitter(rng));
+      const std::vector<ElementRef> els = elementsAt(at);
+      found += expectSamePairs(pairs::findPairs(devices, at, els, 0.0, nullptr, true, &candidates),
+                               bruteForcePairs(devices, at, els, 0.0));
+    }
+    EXPECT_EQ(candidates.builds - builds, 2);  // here and after 5 skins
+    EXPECT_EQ(candidates.reuses - reuses, 1);  // after 0.2 skins
+  }
+  EXPECT_GT(found, 500);
+  std::printf(
+      "[ metric   ] %d element pairs from kept and rebuilt candidates, all equal to the "
+      "brute force\n",
+      found);
 }
 
 /// A straight element from a to b (its frames along it).
@@ -229,12 +282,7 @@ TEST(DevicePairs, CrossedWiresTouchWhereTheirAxesAreClosest) {
         devices.push_back(straightElement(cb - 5e-3 * tb, cb + 5e-3 * tb, &x[1]));
         std::vector<ElementRef> els;
         for (int d = 0; d < 2; ++d) {
-          SamplePoint sp{0, 0.0, d == 0 ? ra : rb, 0.0};
-          ElementRef el{true, d, 0, 0, -1, 0, sp, pairs::axisBox(devices[d], x[d], 0)};
-          el.box.min().array() -= sp.radius;
-          el.box.max().array() += sp.radius;
-          el.bow = pairs::axisBow(devices[d], x[d], 0);
-          els.push_back(el);
+          els.push_back(elementRef(devices[d], x[d], d, {0, 0.0, d == 0 ? ra : rb, 0.0}));
         }
         const std::vector<Pair> found = pairs::findPairs(devices, x, els, 0.0);
         ASSERT_EQ(found.size(), 1u) << degrees << " deg, u " << u << ", v " << v;
@@ -246,6 +294,70 @@ TEST(DevicePairs, CrossedWiresTouchWhereTheirAxesAreClosest) {
       }
   }
   EXPECT_EQ(checked, 18 * 16);
+}
+
+TEST(DevicePairs, AWireCarriedThroughAnotherInOneStepIsHeldWhereTheyFirstTouched) {
+  // Wire b lies along x at z = 0; wire a crosses it at an angle theta in a
+  // plane z = const and is carried in one step from z0 = 0.3 mm above it to
+  // z1 below it (1 to 10 mm: 1 to 10 m/s at 1 ms), sliding by w along b as
+  // it goes. At both ends of the step the axes are apart (no
+  // pair without the swept test). Their closest points lie on the common
+  // normal z whatever a's lateral shift, so the first touch is where a's
+  // axis is r_a + r_b above b's: at s = (z0 - r) / (z0 - z1) of the step,
+  // the normal +z (from b toward a); the contact holds the touching points,
+  // now (pa - pb) . z = z1 apart along it.
+  const double ra = 1.25e-4, rb = 1.25e-4, r = ra + rb, z0 = 3e-4;
+  int checked = 0;
+  for (double degrees : {5.0, 30.0, 60.0, 90.0}) {
+    const double theta = degrees * M_PI / 180.0;
+    const Vec3 ta(std::cos(theta), std::sin(theta), 0.0);
+    for (double z1 : {-1e-3, -4e-3, -1e-2})
+      for (double w : {0.0, 7e-4, -2.2e-3}) {
+        std::vector<DeviceModel> devices;
+        std::vector<DeviceState> x(2), from(2);
+        devices.push_back(
+            straightElement(Vec3(w, 0, z1) - 5e-3 * ta, Vec3(w, 0, z1) + 5e-3 * ta, &x[0]));
+        straightElement(Vec3(0, 0, z0) - 5e-3 * ta, Vec3(0, 0, z0) + 5e-3 * ta, &from[0]);
+        devices.push_back(straightElement(Vec3(-5e-3, 0, 0), Vec3(5e-3, 0, 0), &x[1]));
+        from[1] = x[1];
+        std::vector<ElementRef> els;
+        for (int d = 0; d < 2; ++d)
+          els.push_back(elementRef(devices[d], x[d], d, {0, 0.0, d == 0 ? ra : rb, 0.0}));
+        EXPECT_TRUE(pairs::findPairs(devices, x, els, 0.0).empty());  // apart at x
+        // The step's motion: each element's box and sweep as the pair
+        // detection gives them (a moved by |(w, 0, z1 - z0)|, b not at all).
+        const pairs::StartAxes start(devices, from);
+        const Vec3 shift(w, 0.0, z1 - z0);
+        els[0].box.extend(els[0].box.min() - shift);
+        els[0].box.extend(els[0].box.max() - shift);
+        els[0].sweep = shift.norm();
+        els[0].shift = shift;  // (spread 0: every point of a moved by the same shift)
+        const std::vector<Pair> found = pairs::findPairs(devices, x, els, 0.0, &start);
+        const std::string where =
+            std::to_string(degrees) + " deg, z1 " + std::to_string(z1) + ", w " + std::to_string(w);
+        ASSERT_EQ(found.size(), 1u) << where;
+        const Pair& p = found[0];
+        EXPECT_TRUE(p.swept) << where;
+        EXPECT_NEAR((p.normal - Vec3::UnitZ()).norm(), 0.0, 1e-12) << where;
+        EXPECT_NEAR(p.distance, z1, 1e-12) << where;
+        EXPECT_NEAR((p.pa - p.pb).dot(Vec3::UnitZ()), z1, 1e-12) << where;
+        const pairs::Touch t = pairs::firstTouch(
+            start.axis(0, 0), HermiteAxis::of(devices[0], x[0], 0), start.axis(1, 0),
+            HermiteAxis::of(devices[1], x[1], 0), r, shift.norm());
+        ASSERT_TRUE(t.touched) << where;
+        // The advancement's steps (d - r) / speed are exact for a motion
+        // straight along the normal; sideways, it takes a few, stopping
+        // within 1 % of r of the touch.
+        const double s_touch = (z0 - r) / (z0 - z1);
+        EXPECT_LE(t.s, s_touch + 1e-12) << where;
+        EXPECT_GE(t.s, (z0 - 1.01 * r) / (z0 - z1) - 1e-12) << where;
+        if (w == 0.0) {
+          EXPECT_NEAR(t.s, s_touch, 1e-12) << where;
+        }
+        ++checked;
+      }
+  }
+  EXPECT_EQ(checked, 36);
 }
 
 }  // namespace

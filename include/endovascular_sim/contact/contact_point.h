@@ -39,8 +39,27 @@ struct AxisPoint {
 };
 AxisPoint axisPoint(const DeviceModel& model, const DeviceState& state, int element, double xi);
 
-/// The parameter in [0, 1] of the point of an element's axis closest to y:
-/// Newton on |p(xi) - y|^2 / 2 from xi (at most 8 steps, to 1e-12).
+/// An element's axis as the cubic Hermite curve of its data: end points p0,
+/// p1 [m] and end tangents times the element's length m0 = L t0, m1 = L t1
+/// [m]. The curve is linear in its data: the blend of two configurations'
+/// axes moves each axis point on the straight line between its two places.
+struct HermiteAxis {
+  Vec3 p0, p1, m0, m1;
+
+  /// Element e's axis in a configuration.
+  static HermiteAxis of(const DeviceModel& model, const DeviceState& state, int element);
+  /// (1 - s) this + s to: every axis point s of the way to its place on `to`.
+  HermiteAxis blend(const HermiteAxis& to, double s) const;
+  AxisPoint at(double xi) const;
+  /// A bound [m] of how far the curve strays from its chord p1 - p0.
+  double bow() const;
+  /// The parameter in [0, 1] of the curve's point closest to y: Newton on
+  /// |p(xi) - y|^2 / 2 from xi (at most 8 steps, to 1e-12).
+  double closestParameter(const Vec3& y, double xi) const;
+};
+
+/// The parameter in [0, 1] of the point of an element's axis closest to y
+/// (HermiteAxis::closestParameter).
 double closestAxisParameter(const DeviceModel& model, const DeviceState& state, int element,
                             const Vec3& y, double xi);
 

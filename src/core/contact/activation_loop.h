@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "delassus_columns.h"
+#include "device_pairs.h"
 #include "endovascular_sim/contact/contact_solver.h"
 #include "endovascular_sim/contact/delassus.h"
 #include "endovascular_sim/mechanics/chain_matrix.h"
@@ -92,6 +93,8 @@ struct LoopState {
   std::vector<std::vector<ContactRow>> last_rows;  // rows of the last loop that used the band
   std::vector<DelassusBuffer> last_W;              // and its W (reused while the band stays)
   std::vector<VecX> anchor;                        // dq_k: the iterate the loop's QP is about
+  std::unique_ptr<pairs::StartAxes> start_axes;    // element pairs: the axes at x_t (on first use)
+  pairs::PairCandidates pair_candidates;           // and their candidates from pass to pass
 };
 
 /// One loop's linear problem: W lambda + q >= 0 (with friction, the

@@ -431,10 +431,19 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
     *detect_later = false;
     stranded = detectWallCrossings(pb, s->xf, root, field, s->contacts, &s->contact_of);
   }
-  // Device points closer than the sum of their radii at x_f.
+  // Device points closer than the sum of their radii at x_f (element pairs
+  // that crossed on the way there held from where they first touched).
+  // Element pairs that passed through each other in the free motion are
+  // looked for here only when no contact calls for the loop; otherwise in
+  // the loop's iterates, where they still pass: a packed coil's free motion,
+  // springing open, carries its turns by up to millimetres through each
+  // other, and the first loop's contacts undo most of those passes.
   if (o.device_contact) {
     const auto tp = Clock::now();
-    for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->xf, 0.0)) addPair(f, s);
+    const bool passed_through = s->contacts->empty();
+    for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->xf, 0.0, stepStartAxes(pb, o, s),
+                                          passed_through, &s->pair_candidates))
+      addPair(f, s);
     ++st->pair_passes;
     st->pairs_ms += msSince(tp);
   }

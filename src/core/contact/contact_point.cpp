@@ -65,22 +65,40 @@ Vec3 samplePosition(const DeviceModel& model, const DeviceState& state, const Sa
 }
 
 AxisPoint axisPoint(const DeviceModel& model, const DeviceState& state, int element, double xi) {
-  const int a = element, b = element + 1;
+  return HermiteAxis::of(model, state, element).at(xi);
+}
+
+HermiteAxis HermiteAxis::of(const DeviceModel& model, const DeviceState& state, int element) {
   const double L = model.elements[element].length;
-  const Vec3 ta = L * tangent(state, a), tb = L * tangent(state, b);
+  return {state.position[element], state.position[element + 1], L * tangent(state, element),
+          L * tangent(state, element + 1)};
+}
+
+HermiteAxis HermiteAxis::blend(const HermiteAxis& to, double s) const {
+  return {p0 + s * (to.p0 - p0), p1 + s * (to.p1 - p1), m0 + s * (to.m0 - m0),
+          m1 + s * (to.m1 - m1)};
+}
+
+AxisPoint HermiteAxis::at(double xi) const {
   const Hermite h(xi);
   const HermiteDerivatives d(xi);
   AxisPoint out;
-  out.position = h.h00 * state.position[a] + h.h10 * ta + h.h01 * state.position[b] + h.h11 * tb;
-  out.first = d.d00 * state.position[a] + d.d10 * ta + d.d01 * state.position[b] + d.d11 * tb;
-  out.second = d.s00 * state.position[a] + d.s10 * ta + d.s01 * state.position[b] + d.s11 * tb;
+  out.position = h.h00 * p0 + h.h10 * m0 + h.h01 * p1 + h.h11 * m1;
+  out.first = d.d00 * p0 + d.d10 * m0 + d.d01 * p1 + d.d11 * m1;
+  out.second = d.s00 * p0 + d.s10 * m0 + d.s01 * p1 + d.s11 * m1;
   return out;
 }
 
-double closestAxisParameter(const DeviceModel& model, const DeviceState& state, int element,
-                            const Vec3& y, double xi) {
+double HermiteAxis::bow() const {
+  // p(xi) - chord(xi) = h10 (m0 - d) + h11 (m1 - d), d = p1 - p0 (as
+  // h01 - xi = -(h10 + h11)): |h10|, |h11| <= 4 / 27 on [0, 1].
+  const Vec3 d = p1 - p0;
+  return 4.0 / 27.0 * ((m0 - d).norm() + (m1 - d).norm());
+}
+
+double HermiteAxis::closestParameter(const Vec3& y, double xi) const {
   for (int it = 0; it < 8; ++it) {
-    const AxisPoint a = axisPoint(model, state, element, xi);
+    const AxisPoint a = at(xi);
     const Vec3 r = a.position - y;
     const double g = a.first.dot(r);
     const double h = a.second.dot(r) + a.first.squaredNorm();
@@ -91,6 +109,11 @@ double closestAxisParameter(const DeviceModel& model, const DeviceState& state, 
     if (done) break;
   }
   return xi;
+}
+
+double closestAxisParameter(const DeviceModel& model, const DeviceState& state, int element,
+                            const Vec3& y, double xi) {
+  return HermiteAxis::of(model, state, element).closestParameter(y, xi);
 }
 
 Row12 contactRow(const DeviceModel& model, const DeviceState& state, const SamplePoint& s,

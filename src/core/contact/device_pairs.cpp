@@ -163,15 +163,11 @@ bool nextHoldsEnd(const DeviceModel& m, const DeviceState& x, int e) {
 }  // namespace
 
 double axisBow(double L, const Vec3& p0, const Vec3& p1, const Vec3& t0, const Vec3& t1) {
-  // p(xi) - chord(xi) = h10 (m0 - d) + h11 (m1 - d), d = p1 - p0, m the
-  // nodes' tangents times the element's length: |h10|, |h11| <= 4 / 27.
-  const Vec3 d = p1 - p0;
-  return 4.0 / 27.0 * ((L * t0 - d).norm() + (L * t1 - d).norm());
+  return HermiteAxis{p0, p1, L * t0, L * t1}.bow();
 }
 
 double axisBow(const DeviceModel& model, const DeviceState& x, int e) {
-  return axisBow(model.elements[e].length, x.position[e], x.position[e + 1],
-                 x.rotation[e] * Vec3::UnitX(), x.rotation[e + 1] * Vec3::UnitX());
+  return HermiteAxis::of(model, x, e).bow();
 }
 
 Eigen::AlignedBox3d axisBox(const DeviceModel& model, const DeviceState& x, int e) {
@@ -181,11 +177,8 @@ Eigen::AlignedBox3d axisBox(const DeviceModel& model, const DeviceState& x, int 
   return Eigen::AlignedBox3d(box.min().array() - bow, box.max().array() + bow);
 }
 
-double closestAxisPoints(const DeviceModel& ma, const DeviceState& xa, int ea,
-                         const DeviceModel& mb, const DeviceState& xb, int eb, double* xi_a,
-                         double* xi_b) {
-  closestOnSegments(xa.position[ea], xa.position[ea + 1], xb.position[eb], xb.position[eb + 1],
-                    xi_a, xi_b);
+double closestAxisPoints(const HermiteAxis& a, const HermiteAxis& b, double* xi_a, double* xi_b) {
+  closestOnSegments(a.p0, a.p1, b.p0, b.p1, xi_a, xi_b);
   // The axes bow off their chords (a coil's element by about L^2 kappa / 8):
   // Newton on f = |p_a(xi_a) - p_b(xi_b)|^2 / 2 in both parameters from the
   // chords' answer, kept in [0, 1]^2; a parameter on its bound gets the
@@ -193,12 +186,12 @@ double closestAxisPoints(const DeviceModel& ma, const DeviceState& xa, int ea,
   // there: a coil's touching turns) one round of one-dimensional steps, as
   // the distance hardly changes along them.
   for (int it = 0; it < 12; ++it) {
-    const AxisPoint a = axisPoint(ma, xa, ea, *xi_a), b = axisPoint(mb, xb, eb, *xi_b);
-    const Vec3 r = a.position - b.position;
-    const double ga = a.first.dot(r), gb = -b.first.dot(r);
-    const double haa = a.second.dot(r) + a.first.squaredNorm();
-    const double hbb = -b.second.dot(r) + b.first.squaredNorm();
-    const double hab = -a.first.dot(b.first);
+    const AxisPoint pa = a.at(*xi_a), pb = b.at(*xi_b);
+    const Vec3 r = pa.position - pb.position;
+    const double ga = pa.first.dot(r), gb = -pb.first.dot(r);
+    const double haa = pa.second.dot(r) + pa.first.squaredNorm();
+    const double hbb = -pb.second.dot(r) + pb.first.squaredNorm();
+    const double hab = -pa.first.dot(pb.first);
     const double det = haa * hbb - hab * hab;
     double na, nb;
     if (det > 1e-9 * haa * hbb && haa > 0.0) {
@@ -206,14 +199,12 @@ double closestAxisPoints(const DeviceModel& ma, const DeviceState& xa, int ea,
       nb = std::clamp(*xi_b - (haa * gb - hab * ga) / det, 0.0, 1.0);
       const bool clamped = na == 0.0 || na == 1.0 || nb == 0.0 || nb == 1.0;
       if (clamped) {  // the other parameter's best for the clamped one
-        if (na == 0.0 || na == 1.0)
-          nb = closestAxisParameter(mb, xb, eb, axisPoint(ma, xa, ea, na).position, nb);
-        if (nb == 0.0 || nb == 1.0)
-          na = closestAxisParameter(ma, xa, ea, axisPoint(mb, xb, eb, nb).position, na);
+        if (na == 0.0 || na == 1.0) nb = b.closestParameter(a.at(na).position, nb);
+        if (nb == 0.0 || nb == 1.0) na = a.closestParameter(b.at(nb).position, na);
       }
     } else {  // parallel there: the distance hardly changes along them, one round
-      na = closestAxisParameter(ma, xa, ea, b.position, *xi_a);
-      nb = closestAxisParameter(mb, xb, eb, axisPoint(ma, xa, ea, na).position, *xi_b);
+      na = a.closestParameter(pb.position, *xi_a);
+      nb = b.closestParameter(a.at(na).position, *xi_b);
       *xi_a = na, *xi_b = nb;
       break;
     }
@@ -221,7 +212,66 @@ double closestAxisPoints(const DeviceModel& ma, const DeviceState& xa, int ea,
     *xi_a = na, *xi_b = nb;
     if (settled) break;
   }
-  return (axisPoint(ma, xa, ea, *xi_a).position - axisPoint(mb, xb, eb, *xi_b).position).norm();
+  return (a.at(*xi_a).position - b.at(*xi_b).position).norm();
+}
+
+double closestAxisPoints(const DeviceModel& ma, const DeviceState& xa, int ea,
+                         const DeviceModel& mb, const DeviceState& xb, int eb, double* xi_a,
+                         double* xi_b) {
+  return closestAxisPoints(HermiteAxis::of(ma, xa, ea), HermiteAxis::of(mb, xb, eb), xi_a, xi_b);
+}
+
+StartAxes::StartAxes(const std::vector<DeviceModel>& devices, const std::vector<DeviceState>& x)
+    : devices_(&devices), x_(&x), axis_(devices.size()), bow_(devices.size()) {
+  for (size_t d = 0; d < devices.size(); ++d) {
+    axis_[d].reset(new HermiteAxis[devices[d].num_nodes - 1]);
+    bow_[d].assign(devices[d].num_nodes - 1, -1.0);
+  }
+}
+
+const HermiteAxis& StartAxes::axis(int d, int e) const {
+  if (bow_[d][e] < 0.0) {
+    axis_[d][e] = HermiteAxis::of((*devices_)[d], (*x_)[d], e);
+    bow_[d][e] = axis_[d][e].bow();
+  }
+  return axis_[d][e];
+}
+
+double StartAxes::bow(int d, int e) const {
+  axis(d, e);
+  return bow_[d][e];
+}
+
+/// Conservative advancement: on the path, every point of axis a moves at
+/// most `speed` (ElementRef::sweep of both) per unit of s relative to every
+/// point of axis b, so the axes' distance d(s) changes no faster, and a step
+/// of (d(s) - radii) / speed cannot pass a touch. Stops where d <= radii
+/// (1 + 1 %), or at s = 1; after 64 advances (a near miss: the axes slide
+/// by within a percent of touching) it answers where it stopped, with that
+/// place's normal. Where the distance is a few millionths of the radii (the
+/// axes met), the normal across both axes (pairNormal).
+Touch firstTouch(const HermiteAxis& a0, const HermiteAxis& a1, const HermiteAxis& b0,
+                 const HermiteAxis& b1, double radii, double speed) {
+  constexpr int kMaxAdvances = 64;
+  constexpr double kTouchSlack = 0.01;
+  double s = 0.0;
+  for (int it = 0;; ++it) {
+    const HermiteAxis a = s == 1.0 ? a1 : a0.blend(a1, s);
+    const HermiteAxis b = s == 1.0 ? b1 : b0.blend(b1, s);
+    Touch t;
+    const double d = closestAxisPoints(a, b, &t.xi_a, &t.xi_b);
+    if (d <= radii * (1.0 + kTouchSlack) || it + 1 == kMaxAdvances) {
+      const AxisPoint pa = a.at(t.xi_a), pb = b.at(t.xi_b);
+      t.normal = d > 1e-6 * radii ? Vec3((pa.position - pb.position) / d)
+                                  : pairNormal(pa.position, pa.first.normalized(), pb.position,
+                                               pb.first.normalized());
+      t.touched = true;
+      t.s = s;
+      return t;
+    }
+    if (s == 1.0 || !(speed > 0.0)) return Touch{};
+    s = std::min(1.0, s + (d - radii) / speed);
+  }
 }
 
 /// Pairs of points, at least one of them free, closer than the sum of their
@@ -278,32 +328,41 @@ std::vector<PointPair> findPointPairs(const std::vector<DeviceModel>& devices,
 /// bodies and touch as any pair. A closest point at an element's distal
 /// node is left to the next element, whose proximal node it is: one
 /// contact there, not two. Sorted by (device, element) pairs.
+///
+/// Given the step's start `from`, a pair whose axes moved (ElementRef::sweep
+/// of both) by at least their distance at `from` (its lower bound: the
+/// chords' distance less both bows) gets the swept test: firstTouch on the
+/// path that moves each axis point straight from its place at `from` to its
+/// place at x finds where they first came within the sum of their radii; a
+/// pair that crossed after it is made a contact there (Pair::swept). A
+/// slower pair cannot have crossed: its axes cannot have met.
 std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
                             const std::vector<DeviceState>& x, const std::vector<ElementRef>& els,
-                            double margin) {
+                            double margin, const StartAxes* from, bool apart_too,
+                            PairCandidates* candidates) {
   const double reach = std::max(0.0, margin);
   std::vector<Pair> out;
   if (els.empty()) return out;
-  // Cells as wide as nine in ten boxes: the few wider ones (a pusher's or a
-  // catheter's long elements among a coil's short ones) are tested against
-  // every element instead, so that they do not coarsen the grid.
-  std::vector<double> widths(els.size());
-  for (size_t i = 0; i < els.size(); ++i) widths[i] = els[i].box.sizes().maxCoeff();
-  std::vector<double> sorted = widths;
-  const size_t q = sorted.size() * 9 / 10;
-  std::nth_element(sorted.begin(), sorted.begin() + q, sorted.end());
-  const double cell_width = sorted[q];
-  std::vector<Vec3> centres;
-  std::vector<int> small, large;
-  for (size_t i = 0; i < els.size(); ++i) {
-    if (widths[i] <= cell_width) {
-      small.push_back(static_cast<int>(i));
-      centres.push_back(els[i].box.center());
-    } else {
-      large.push_back(static_cast<int>(i));
+  // The candidates of an earlier pass of the step, where every element's
+  // box still lies within its box there grown by the skin: a pair whose
+  // boxes come within reach now came within reach plus twice the skin there.
+  std::vector<int> now;  // per element when built: its index in els, or -1
+  if (candidates && candidates->reach >= reach) {
+    now.assign(candidates->box.size(), -1);
+    for (size_t i = 0; i < els.size() && !now.empty(); ++i) {
+      const auto& slot = candidates->slot;
+      const int d = els[i].device, e = els[i].element;
+      const int k = d < static_cast<int>(slot.size()) && e < static_cast<int>(slot[d].size())
+                        ? slot[d][e]
+                        : -1;
+      if (k < 0 || !candidates->box[k].contains(els[i].box))
+        now.clear();
+      else
+        now[k] = static_cast<int>(i);
     }
   }
   auto check = [&](int i, int j) {
+    if (i < 0 || j < 0) return;  // (a candidate no longer in els)
     const int ia = std::min(i, j), ib = std::max(i, j);
     const ElementRef& a = els[ia];
     const ElementRef& b = els[ib];
@@ -323,22 +382,62 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
       if (std::max(std::abs(a1 - b0), std::abs(b1 - a0)) <= exempt) return;
     }
     // The chords first: axes that stray from them by less than their bows
-    // cannot come within reach when the chords do not.
-    {
+    // are at least the chords' distance less both bows apart.
+    auto chordGap = [](const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1) {
       double s = 0.0, t = 0.0;
-      closestOnSegments(x[a.device].position[a.element], x[a.device].position[a.element + 1],
-                        x[b.device].position[b.element], x[b.device].position[b.element + 1], &s,
-                        &t);
-      const Vec3 pa = x[a.device].position[a.element] +
-                      s * (x[a.device].position[a.element + 1] - x[a.device].position[a.element]);
-      const Vec3 pb = x[b.device].position[b.element] +
-                      t * (x[b.device].position[b.element + 1] - x[b.device].position[b.element]);
-      if ((pa - pb).norm() - a.bow - b.bow >= ra + rb + margin) return;
+      closestOnSegments(a0, a1, b0, b1, &s, &t);
+      return (a0 + s * (a1 - a0) - (b0 + t * (b1 - b0))).norm();
+    };
+    const auto& xa = x[a.device].position;
+    const auto& xb = x[b.device].position;
+    const double gap =
+        chordGap(xa[a.element], xa[a.element + 1], xb[b.element], xb[b.element + 1]) - a.bow -
+        b.bow;
+    // A pair whose axes moved relative to each other (at most `speed`: the
+    // smaller of both sweeps and their relative shift plus both spreads) by
+    // as much as they were apart at the step's start and at x may have met
+    // in between and crossed: the swept test from the step's start.
+    double speed = 0.0;
+    bool swept = false;
+    const HermiteAxis *from_a = nullptr, *from_b = nullptr;
+    if (from && a.sweep + b.sweep >= gap) {
+      speed = std::min(a.sweep + b.sweep, (a.shift - b.shift).norm() + a.spread + b.spread);
+      from_a = &from->axis(a.device, a.element);
+      from_b = &from->axis(b.device, b.element);
+      swept = speed > 0.0 && speed >= gap &&
+              speed >= chordGap(from_a->p0, from_a->p1, from_b->p0, from_b->p1) -
+                           from->bow(a.device, a.element) - from->bow(b.device, b.element);
     }
+    if ((!swept || !apart_too) && gap >= ra + rb + margin) return;
     Pair pr{ia, ib, a.point, b.point, Vec3::Zero(), Vec3::Zero(), 0.0};
-    pr.distance = closestAxisPoints(ma, x[a.device], a.element, mb, x[b.device], b.element,
-                                    &pr.on_a.xi, &pr.on_b.xi);
-    if (!(pr.distance < ra + rb + margin)) return;
+    const HermiteAxis& axis_a = a.axis;
+    const HermiteAxis& axis_b = b.axis;
+    pr.distance = closestAxisPoints(axis_a, axis_b, &pr.on_a.xi, &pr.on_b.xi);
+    const bool near = pr.distance < ra + rb + margin;
+    if (swept && (near || apart_too)) {
+      // Crossed: the axes at x overlap with the normal turned against the
+      // one where they first touched, or the points that touched there lie
+      // beyond each other along it. The contact then holds those points on
+      // the side they touched from (the plane at the first root, as on the
+      // wall); otherwise the pair at x as without the test.
+      const Touch t = firstTouch(*from_a, axis_a, *from_b, axis_b, ra + rb, speed);
+      if (t.touched) {
+        const Vec3 across = axis_a.at(t.xi_a).position - axis_b.at(t.xi_b).position;
+        const bool turned =
+            near &&
+            (axis_a.at(pr.on_a.xi).position - axis_b.at(pr.on_b.xi).position).dot(t.normal) < 0.0;
+        if (turned || (!near && across.dot(t.normal) < 0.0)) {
+          pr.swept = true;
+          pr.normal = t.normal;
+          pr.on_a.xi = t.xi_a;
+          pr.on_b.xi = t.xi_b;
+          pr.distance = across.dot(t.normal);
+        }
+      }
+      if (!near && !pr.swept) return;
+    } else if (!near) {
+      return;
+    }
     if (one_body &&
         std::abs(along(ma, a.element, pr.on_a.xi) - along(mb, b.element, pr.on_b.xi)) <= exempt)
       return;
@@ -349,18 +448,71 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
     pr.pb = samplePosition(mb, x[b.device], pr.on_b);
     out.push_back(pr);
   };
-  for (size_t k = 0; k < large.size(); ++k) {
-    for (int j : small) check(large[k], j);
-    for (size_t l = k + 1; l < large.size(); ++l) check(large[k], large[l]);
+  auto byIndex = [](const Pair& p, const Pair& q) { return p.a != q.a ? p.a < q.a : p.b < q.b; };
+  if (!now.empty()) {
+    ++candidates->reuses;
+    for (const auto& [k, l] : candidates->pairs) check(now[k], now[l]);
+    std::sort(out.begin(), out.end(), byIndex);
+    return out;
   }
-  if (small.empty()) return out;
-  const CellRows grid(centres, cell_width + reach);
-  auto checkCells = [&](int at, int k) {
-    check(small[grid.sorted[at].second], small[grid.sorted[k].second]);
+  // Cells as wide as nine in ten boxes: the few wider ones (a pusher's or a
+  // catheter's long elements among a coil's short ones) are tested against
+  // every element instead, so that they do not coarsen the grid.
+  std::vector<double> widths(els.size());
+  for (size_t i = 0; i < els.size(); ++i) widths[i] = els[i].box.sizes().maxCoeff();
+  std::vector<double> sorted = widths;
+  const size_t q = sorted.size() * 9 / 10;
+  std::nth_element(sorted.begin(), sorted.begin() + q, sorted.end());
+  const double cell_width = sorted[q];
+  std::vector<Vec3> centres;
+  std::vector<int> small, large;
+  for (size_t i = 0; i < els.size(); ++i) {
+    if (widths[i] <= cell_width) {
+      small.push_back(static_cast<int>(i));
+      centres.push_back(els[i].box.center());
+    } else {
+      large.push_back(static_cast<int>(i));
+    }
+  }
+  // Building the candidates: every element's box grown by the skin (a
+  // tenth of the cells), the pairs of those within reach, then checked.
+  double grow = 0.0;
+  if (candidates) {
+    PairCandidates& c = *candidates;
+    c.skin = 0.1 * cell_width;
+    c.reach = reach;
+    grow = 2.0 * c.skin;
+    c.slot.assign(devices.size(), {});
+    for (size_t d = 0; d < devices.size(); ++d) c.slot[d].assign(devices[d].num_nodes - 1, -1);
+    c.box.resize(els.size());
+    for (size_t i = 0; i < els.size(); ++i) {
+      c.slot[els[i].device][els[i].element] = static_cast<int>(i);
+      c.box[i] =
+          Eigen::AlignedBox3d(els[i].box.min().array() - c.skin, els[i].box.max().array() + c.skin);
+    }
+    c.pairs.clear();
+    ++c.builds;
+  }
+  auto consider = [&](int i, int j) {
+    if (!candidates) return check(i, j);
+    if ((els[i].free || els[j].free) &&
+        candidates->box[i].squaredExteriorDistance(candidates->box[j]) <= reach * reach)
+      candidates->pairs.push_back({i, j});
   };
-  grid.forNeighbours(checkCells);
-  std::sort(out.begin(), out.end(),
-            [](const Pair& p, const Pair& q) { return p.a != q.a ? p.a < q.a : p.b < q.b; });
+  for (size_t k = 0; k < large.size(); ++k) {
+    for (int j : small) consider(large[k], j);
+    for (size_t l = k + 1; l < large.size(); ++l) consider(large[k], large[l]);
+  }
+  if (!small.empty()) {
+    const CellRows grid(centres, cell_width + reach + grow);
+    auto considerCells = [&](int at, int k) {
+      consider(small[grid.sorted[at].second], small[grid.sorted[k].second]);
+    };
+    grid.forNeighbours(considerCells);
+  }
+  if (candidates)
+    for (const auto& [i, j] : candidates->pairs) check(i, j);
+  std::sort(out.begin(), out.end(), byIndex);
   return out;
 }
 

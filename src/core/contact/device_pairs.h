@@ -6,6 +6,8 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
+#include <memory>
 #include <vector>
 
 #include "endovascular_sim/contact/contact_point.h"
@@ -46,17 +48,27 @@ struct ElementRef {
   int in_lumen_of;          // effect 'coaxial': the outer device whose lumen holds it (-1: none)
   int sample;               // its first sample point (the contact's bookkeeping)
   SamplePoint point;        // that sample: the element's radius and friction
-  Eigen::AlignedBox3d box;  // holds its axis grown by its radius [m]
+  Eigen::AlignedBox3d box;  // holds its axis grown by its radius, at x and at the step's start [m]
+  HermiteAxis axis{};       // its axis at x
   double bow{0.0};          // [m] how far its axis may stray from its chord (axisBow)
+  // How its axis moved from the step's start [m]: no point by more than
+  // sweep; each by its proximal node's shift, give or take spread.
+  double sweep{0.0};
+  Vec3 shift{Vec3::Zero()};
+  double spread{0.0};
 };
 
 /// Two elements whose axes come closer than the sum of their radii plus
-/// the margin: the closest points of the two axes.
+/// the margin: the closest points of the two axes. Or two that crossed in
+/// the step (swept): the points where they first touched, and the normal
+/// there.
 struct Pair {
   int a, b;                // indices into the element list
   SamplePoint on_a, on_b;  // the closest points of the axes (element, xi; radius, friction)
   Vec3 pa, pb;             // their positions [m]
-  double distance;         // |pa - pb| [m]
+  double distance;         // |pa - pb| [m]; swept: (pa - pb) . normal (negative: crossed)
+  bool swept{false};
+  Vec3 normal{Vec3::Zero()};  // swept: from b toward a where they first touched
 };
 
 /// Normal of a contact between two device points, from b to a (axis
@@ -75,16 +87,67 @@ Eigen::AlignedBox3d axisBox(const DeviceModel& model, const DeviceState& x, int 
 
 /// The closest points (xi_a, xi_b) of two elements' axes: the chords'
 /// closest points, refined on the axes; returns their distance [m].
+double closestAxisPoints(const HermiteAxis& a, const HermiteAxis& b, double* xi_a, double* xi_b);
 double closestAxisPoints(const DeviceModel& ma, const DeviceState& xa, int ea,
                          const DeviceModel& mb, const DeviceState& xb, int eb, double* xi_a,
                          double* xi_b);
 
+/// Where two moving axes first come within `radii` [m] of each other: on
+/// the path that moves each axis point straight from its place on a0 (b0)
+/// to its place on a1 (b1), s from 0 to 1.
+struct Touch {
+  bool touched{false};
+  double s{0.0};                // the path parameter
+  double xi_a{0.0}, xi_b{0.0};  // the closest points there
+  Vec3 normal{Vec3::Zero()};    // from b toward a there
+};
+/// Conservative advancement (see device_pairs.cpp); `speed` [m] bounds how
+/// far any point of either axis moves over the whole path (ElementRef::sweep).
+Touch firstTouch(const HermiteAxis& a0, const HermiteAxis& a1, const HermiteAxis& b0,
+                 const HermiteAxis& b1, double radii, double speed);
+
+/// The elements' axes in a configuration (the step's start, for the swept
+/// test), each computed when first asked for and kept (for the step).
+class StartAxes {
+ public:
+  StartAxes(const std::vector<DeviceModel>& devices, const std::vector<DeviceState>& x);
+  /// Element e of device d.
+  const HermiteAxis& axis(int d, int e) const;
+  /// Its bow [m] (HermiteAxis::bow).
+  double bow(int d, int e) const;
+
+ private:
+  const std::vector<DeviceModel>* devices_;
+  const std::vector<DeviceState>* x_;
+  // (left uninitialised until asked for: a long coil has thousands)
+  std::vector<std::unique_ptr<HermiteAxis[]>> axis_;
+  mutable std::vector<std::vector<double>> bow_;  // -1: not yet computed
+};
+
+/// Candidate element pairs kept from pass to pass of one step (a Verlet
+/// list): the pairs whose boxes, grown by a skin, came within reach of each
+/// other where it was built; reused while every element's box stays within
+/// its box there grown by the skin (device_pairs.cpp).
+struct PairCandidates {
+  double skin{0.0};                       // [m]
+  double reach{-1.0};                     // the reach it was built for [m] (< 0: none)
+  std::vector<std::vector<int>> slot;     // per device and element: its index below, or -1
+  std::vector<Eigen::AlignedBox3d> box;   // per element when built: its box grown by the skin
+  std::vector<std::array<int, 2>> pairs;  // the candidates (indices above)
+  int builds{0}, reuses{0};
+};
+
 /// Pairs of elements, at least one of them free, whose axes at x come
 /// closer than the sum of their radii plus `margin` [m]
-/// (contact.element_pairs true); see device_pairs.cpp.
+/// (contact.element_pairs true), and, given the step's start `from`, the
+/// pairs that crossed between from and x: those that overlap at x, and
+/// with `apart_too` those apart there too (they passed through); see
+/// device_pairs.cpp.
 std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
                             const std::vector<DeviceState>& x,
-                            const std::vector<ElementRef>& elements, double margin);
+                            const std::vector<ElementRef>& elements, double margin,
+                            const StartAxes* from = nullptr, bool apart_too = true,
+                            PairCandidates* candidates = nullptr);
 
 }  // namespace pairs
 }  // namespace evsim

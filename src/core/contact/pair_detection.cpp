@@ -89,11 +89,33 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
 /// inner device within its outer device's lumen, or less than a few radii
 /// beyond its tip, is marked: it touches the outer device through the lumen
 /// constraint, never as a pair. The element cut by a detachment is none.
-std::vector<ElementRef> pairElements(const ContactProblem& pb, const std::vector<DeviceState>& x) {
+/// Given the axes at the step's start `from`, each element's box holds its
+/// axis there too, and its sweep bounds how far its axis points moved
+/// (device_pairs.h).
+std::vector<ElementRef> pairElements(const ContactProblem& pb, const std::vector<DeviceState>& x,
+                                     const pairs::StartAxes* from) {
   const auto& devices = *pb.devices;
   const auto& samples = *pb.samples;
   // A pair needs a free element: a held one whose box misses the free
   // ones' box pairs with none (most of a device still in its introducer).
+  // Given the step's start: the box holds the axis all along the step, and
+  // how far it moved.
+  auto addMotion = [&](ElementRef* el) {
+    const int d = el->device, e = el->element;
+    const HermiteAxis& start = from->axis(d, e);
+    const double bow_from = from->bow(d, e);
+    Eigen::AlignedBox3d was(start.p0);
+    was.extend(start.p1);
+    was.min().array() -= el->point.radius + bow_from;
+    was.max().array() += el->point.radius + bow_from;
+    el->box.extend(was);
+    const HermiteAxis moved{el->axis.p0 - start.p0, el->axis.p1 - start.p1, el->axis.m0 - start.m0,
+                            el->axis.m1 - start.m1};
+    const double moved_bow = moved.bow();
+    el->sweep = std::max(moved.p0.norm(), moved.p1.norm()) + moved_bow;
+    el->shift = moved.p0;
+    el->spread = (moved.p1 - moved.p0).norm() + moved_bow;
+  };
   std::vector<ElementRef> els;
   size_t total = 0;
   for (const DeviceModel& m : devices) total += m.elements.size();
@@ -123,13 +145,14 @@ std::vector<ElementRef> pairElements(const ContactProblem& pb, const std::vector
                     -1,
                     static_cast<int>(k),
                     sp,
-                    Eigen::AlignedBox3d(x[d].position[e]),
-                    0.0};
-      el.bow = pairs::axisBow(m.elements[e].length, x[d].position[e], x[d].position[e + 1],
-                              tangent[e], tangent[e + 1]);
+                    Eigen::AlignedBox3d(x[d].position[e])};
+      const double L = m.elements[e].length;
+      el.axis = {x[d].position[e], x[d].position[e + 1], L * tangent[e], L * tangent[e + 1]};
+      el.bow = el.axis.bow();
       el.box.extend(x[d].position[e + 1]);
       el.box.min().array() -= sp.radius + el.bow;
       el.box.max().array() += sp.radius + el.bow;
+      if (from && el.free) addMotion(&el);
       const double s = m.node_s[e];
       if (outer >= 0 && !detached(x[d], sp) && pathLength(m, x[d], s) < reach)
         el.in_lumen_of = outer;
@@ -143,6 +166,9 @@ std::vector<ElementRef> pairElements(const ContactProblem& pb, const std::vector
                              return !el.free && !reach_of_free.intersects(el.box);
                            }),
             els.end());
+  if (from)
+    for (ElementRef& el : els)
+      if (!el.free) addMotion(&el);
   return els;
 }
 
@@ -154,7 +180,9 @@ std::vector<ElementRef> pairElements(const ContactProblem& pb, const std::vector
 /// axes' closest points, the normal from one to the other (across both
 /// local axes where they meet).
 std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
-                                   const std::vector<DeviceState>& x, double margin) {
+                                   const std::vector<DeviceState>& x, double margin,
+                                   const pairs::StartAxes* from, bool passed_through,
+                                   pairs::PairCandidates* candidates) {
   const auto& samples = *pb.samples;
   std::vector<FoundPair> out;
   auto found = [&](int da, int sa, int ea, int db, int sb, int eb) {
@@ -179,8 +207,9 @@ std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
     }
     return out;
   }
-  const std::vector<ElementRef> els = pairElements(pb, x);
-  for (const Pair& pr : pairs::findPairs(*pb.devices, x, els, margin)) {
+  const std::vector<ElementRef> els = pairElements(pb, x, from);
+  for (const Pair& pr :
+       pairs::findPairs(*pb.devices, x, els, margin, from, passed_through, candidates)) {
     const ElementRef &a = els[pr.a], &b = els[pr.b];
     FoundPair f = found(a.device, a.sample, a.element, b.device, b.sample, b.element);
     f.key = {a.device, a.element, b.device, b.element};
@@ -188,9 +217,11 @@ std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
     f.on_b = pr.on_b;
     f.at_b = pr.pb;
     const double radii = pr.on_a.radius + pr.on_b.radius;
-    f.normal = pr.distance > 1e-6 * radii ? Vec3((pr.pa - pr.pb) / pr.distance)
-                                          : pairNormal(pr.pa, sampleTangent(x[a.device], pr.on_a),
-                                                       pr.pb, sampleTangent(x[b.device], pr.on_b));
+    f.normal = pr.swept ? pr.normal
+               : pr.distance > 1e-6 * radii
+                   ? Vec3((pr.pa - pr.pb) / pr.distance)
+                   : pairNormal(pr.pa, sampleTangent(x[a.device], pr.on_a), pr.pb,
+                                sampleTangent(x[b.device], pr.on_b));
     f.depth = radii - pr.distance;
     out.push_back(f);
   }
@@ -206,9 +237,17 @@ void addPair(const FoundPair& f, LoopState* s) {
   s->contacts->push_back(ct);
 }
 
+const pairs::StartAxes* stepStartAxes(const ContactProblem& pb, const ContactOptions& o,
+                                      LoopState* s) {
+  if (!o.element_pairs) return nullptr;
+  if (!s->start_axes) s->start_axes = std::make_unique<pairs::StartAxes>(*pb.devices, *pb.start);
+  return s->start_axes.get();
+}
+
 bool redetectPairs(const ContactProblem& pb, const ContactOptions& o, LoopState* s) {
   bool solved = true;
-  for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, -o.penetration_tolerance)) {
+  for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, -o.penetration_tolerance,
+                                        stepStartAxes(pb, o, s), true, &s->pair_candidates)) {
     solved = false;
     const auto it = s->pair_contact.find(f.key);
     if (it != s->pair_contact.end() && !s->updated[it->second]) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "activation_loop.h"
+#include "device_pairs.h"
 
 namespace evsim::activation {
 
@@ -21,9 +22,21 @@ struct FoundPair {
   double depth;            // r_a + r_b - distance [m]
 };
 
-/// The device pairs at x within `margin` [m] (see pair_detection.cpp).
+/// The device pairs at x within `margin` [m] (see pair_detection.cpp);
+/// with element pairs and the axes at the step's start `from`, also those
+/// that crossed since: the ones overlapping at x, and with `passed_through`
+/// those apart there too (device_pairs.h). `candidates`: element pairs'
+/// candidates kept from an earlier pass of the step (device_pairs.h).
 std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
-                                   const std::vector<DeviceState>& x, double margin);
+                                   const std::vector<DeviceState>& x, double margin,
+                                   const pairs::StartAxes* from = nullptr,
+                                   bool passed_through = true,
+                                   pairs::PairCandidates* candidates = nullptr);
+
+/// The axes at the step's start for element pairs' swept test, computed on
+/// first use in the step (none for sample points).
+const pairs::StartAxes* stepStartAxes(const ContactProblem& pb, const ContactOptions& o,
+                                      LoopState* s);
 
 /// A new pair contact in the loop's contacts.
 void addPair(const FoundPair& f, LoopState* s);
