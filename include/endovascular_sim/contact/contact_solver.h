@@ -14,7 +14,10 @@
 //             without its contact the first loops chase it millimetres away
 //   pairs     with the effect 'device_contact', device points closer than
 //             the sum of their radii (same device: more than a few radii
-//             apart along it) are pair contacts in the same LCP
+//             apart along it) are pair contacts in the same LCP; between
+//             elements (options.element_pairs) a pair that carried a force
+//             in the previous step starts this one too, at the same points
+//             of the two axes, and pairs get a swept test over the step
 //   lumen     with the effect 'coaxial', points of an inner device beyond
 //             its outer device's lumen are contacts with the outer axis
 //             (contact/coaxial.h), updated and added like wall contacts

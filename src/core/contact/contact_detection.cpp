@@ -440,10 +440,11 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
   // other, and the first loop's contacts undo most of those passes.
   if (o.device_contact) {
     const auto tp = Clock::now();
+    if (o.element_pairs) keepPairs(pb, s);
     const bool passed_through = s->contacts->empty();
     for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->xf, 0.0, stepStartAxes(pb, o, s),
                                           passed_through, &s->pair_candidates))
-      addPair(f, s);
+      if (!s->pair_contact.count(f.key)) addPair(f, s);
     ++st->pair_passes;
     st->pairs_ms += msSince(tp);
   }

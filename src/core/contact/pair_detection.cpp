@@ -228,6 +228,28 @@ std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
   return out;
 }
 
+void keepPairs(const ContactProblem& pb, LoopState* s) {
+  if (!pb.previous) return;
+  const auto& devices = *pb.devices;
+  const auto& start = *pb.start;
+  for (const Contact& prev : *pb.previous) {
+    if (prev.other_device < 0 || prev.lumen || !(prev.force > 0.0)) continue;
+    const int da = prev.device, db = prev.other_device;
+    if (prev.self.element == start[da].cut_element || prev.other.element == start[db].cut_element)
+      continue;  // (detached since)
+    const std::array<int, 4> key{da, prev.self.element, db, prev.other.element};
+    if (s->pair_contact.count(key)) continue;
+    const Vec3 pa = samplePosition(devices[da], start[da], prev.self);
+    const Vec3 pb_ = samplePosition(devices[db], start[db], prev.other);
+    Contact ct = prev;  // its points, and its force as the warm start
+    ct.point = pb_;
+    if ((pa - pb_).norm() > 1e-6 * prev.separation) ct.normal = (pa - pb_).normalized();
+    ct.gap = 0.0;
+    s->pair_contact[key] = static_cast<int>(s->contacts->size());
+    s->contacts->push_back(ct);
+  }
+}
+
 void addPair(const FoundPair& f, LoopState* s) {
   s->pair_contact[f.key] = static_cast<int>(s->contacts->size());
   Contact ct{f.device_a, f.sample_a, f.at_b, f.normal, 0, 0, f.device_b, f.sample_b};

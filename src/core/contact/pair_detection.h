@@ -38,6 +38,14 @@ std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
 const pairs::StartAxes* stepStartAxes(const ContactProblem& pb, const ContactOptions& o,
                                       LoopState* s);
 
+/// Element pairs: the previous step's pair contacts that carried a force
+/// start the loop, at the same points of the two axes, the normal between
+/// them at x_t and their force as the LCP's warm start (as a wall contact
+/// does: contact_solver.h, "persist"). The free motion of a packed coil
+/// springs its turns open; found afresh at x_f, the contacts that hold
+/// them came back one activation loop at a time.
+void keepPairs(const ContactProblem& pb, LoopState* s);
+
 /// A new pair contact in the loop's contacts.
 void addPair(const FoundPair& f, LoopState* s);
 

@@ -204,8 +204,8 @@ std::vector<SchemaEntry> makeSchema() {
           "frictionless status method: W's columns formed as the method reads them")
           .def("true"),
       Key("contact.element_pairs", T::kBool,
-          "effect 'device_contact': pairs between the elements' axes, at their closest points "
-          "(false: between sample points; docs/model.md)")
+          "effect 'device_contact': pairs between the elements' axes, at their closest points, "
+          "with a swept test over each step (false: between sample points; docs/model.md)")
           .def("false"),
       Key("contact.lumen_settle", T::kNumber,
           "effect 'coaxial': the loop goes on while a point held by the lumen's curvature slid "
