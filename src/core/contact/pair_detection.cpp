@@ -237,6 +237,10 @@ void keepPairs(const ContactProblem& pb, LoopState* s) {
     const int da = prev.device, db = prev.other_device;
     if (prev.self.element == start[da].cut_element || prev.other.element == start[db].cut_element)
       continue;  // (detached since)
+    const auto& ws = *pb.workspaces;
+    if (prev.self.element + 1 < ws[da].first_free_node &&
+        prev.other.element + 1 < ws[db].first_free_node)
+      continue;  // (both withdrawn into their introducers since: no free node)
     const std::array<int, 4> key{da, prev.self.element, db, prev.other.element};
     if (s->pair_contact.count(key)) continue;
     const Vec3 pa = samplePosition(devices[da], start[da], prev.self);
