@@ -162,16 +162,8 @@ bool nextHoldsEnd(const DeviceModel& m, const DeviceState& x, int e) {
 
 }  // namespace
 
-double axisBow(double L, const Vec3& p0, const Vec3& p1, const Vec3& t0, const Vec3& t1) {
-  return HermiteAxis{p0, p1, L * t0, L * t1}.bow();
-}
-
-double axisBow(const DeviceModel& model, const DeviceState& x, int e) {
-  return HermiteAxis::of(model, x, e).bow();
-}
-
 Eigen::AlignedBox3d axisBox(const DeviceModel& model, const DeviceState& x, int e) {
-  const double bow = axisBow(model, x, e);
+  const double bow = HermiteAxis::of(model, x, e).bow();
   Eigen::AlignedBox3d box(x.position[e]);
   box.extend(x.position[e + 1]);
   return Eigen::AlignedBox3d(box.min().array() - bow, box.max().array() + bow);

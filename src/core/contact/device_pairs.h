@@ -50,7 +50,7 @@ struct ElementRef {
   SamplePoint point;        // that sample: the element's radius and friction
   Eigen::AlignedBox3d box;  // holds its axis grown by its radius, at x and at the step's start [m]
   HermiteAxis axis{};       // its axis at x
-  double bow{0.0};          // [m] how far its axis may stray from its chord (axisBow)
+  double bow{0.0};          // [m] how far its axis may stray from its chord (HermiteAxis::bow)
   // How its axis moved from the step's start [m]: no point by more than
   // sweep; each by its proximal node's shift, give or take spread.
   double sweep{0.0};
@@ -75,14 +75,7 @@ struct Pair {
 /// tangents ta, tb); see device_pairs.cpp.
 Vec3 pairNormal(const Vec3& pa, const Vec3& ta, const Vec3& pb, const Vec3& tb);
 
-/// A bound [m] of how far an element's axis (cubic Hermite,
-/// contact_point.h) of length L [m] strays from its chord p1 - p0, its
-/// nodes' unit tangents t0, t1.
-double axisBow(double L, const Vec3& p0, const Vec3& p1, const Vec3& t0, const Vec3& t1);
-/// The same for an element of a device in a configuration.
-double axisBow(const DeviceModel& model, const DeviceState& x, int element);
-
-/// The box of an element's axis: its nodes' box grown by axisBow [m].
+/// The box of an element's axis: its nodes' box grown by its bow (HermiteAxis::bow) [m].
 Eigen::AlignedBox3d axisBox(const DeviceModel& model, const DeviceState& x, int element);
 
 /// The closest points (xi_a, xi_b) of two elements' axes: the chords'
