@@ -95,7 +95,8 @@ struct Touch {
   Vec3 normal{Vec3::Zero()};    // from b toward a there
 };
 /// Conservative advancement (see device_pairs.cpp); `speed` [m] bounds how
-/// far any point of either axis moves over the whole path (ElementRef::sweep).
+/// far any point of axis a moves relative to any point of axis b over the
+/// whole path (from ElementRef::sweep, shift and spread of both).
 Touch firstTouch(const HermiteAxis& a0, const HermiteAxis& a1, const HermiteAxis& b0,
                  const HermiteAxis& b1, double radii, double speed);
 
