@@ -302,6 +302,29 @@ TEST_F(Loader, MaxElementLengthRefinesOnlyCoarserSections) {
   EXPECT_EQ(s.devices[0].device.sections[1].elements, 10);  // 0.02 m: already 2 mm elements
 }
 
+TEST_F(Loader, ADeviceLengthResizesItsShaftAtTheFilesElementLength) {
+  // The file's device: a 0.3 m shaft in 30 elements and a 0.02 m tip. At
+  // 1.02 m the shaft is 1.0 m in 1 cm elements; the tip is the file's, and
+  // an insertion beyond the file's length is valid.
+  write("wire.urdf", kDevice);
+  std::string scene = kScene;
+  const std::string at = "inserted_length: 0.05";
+  scene.replace(scene.find(at), at.size(), "length: 1.02\n    inserted_length: 0.5");
+  const SceneSpec s = loadSceneFile(write("scene.yaml", scene));
+  const DeviceSpec& d = s.devices[0].device;
+  EXPECT_NEAR(d.sections[0].length, 1.0, 1e-12);
+  EXPECT_EQ(d.sections[0].elements, 100);
+  EXPECT_NEAR(d.sections[1].length, 0.02, 1e-15);
+  EXPECT_EQ(d.sections[1].elements, 10);
+  EXPECT_NEAR(buildDeviceModel(d).length, 1.02, 1e-12);
+  EXPECT_NEAR(s.devices[0].inserted_length, 0.5, 1e-15);
+}
+
+TEST_F(Loader, ADeviceLengthShorterThanItsDistalSectionsIsNamed) {
+  expectNames(sceneError("inserted_length: 0.05", "length: 0.02\n    inserted_length: 0.01"),
+              "scene.yaml", 9, "devices[0].length", "must lie in [0.021, 10] m");
+}
+
 TEST_F(Loader, NonPositiveMaxElementLengthIsNamed) {
   expectNames(
       sceneError("inserted_length: 0.05", "inserted_length: 0.05\n    max_element_length: 0"),

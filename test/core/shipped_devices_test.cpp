@@ -58,8 +58,8 @@ TEST(ShippedDevices, TheAngledCatheterTurns45DegreesOverItsLast20Millimetres) {
   expectRestShape("catheter.urdf", {{0.38, 0.0}, {0.02, M_PI / 4.0}});
 }
 
-TEST(ShippedDevices, TheMicrowiresJTurns180DegreesOnARadiusOf1Point5Millimetres) {
-  expectRestShape("microwire.urdf", {{0.52 + 0.03 - M_PI * 0.0015, 0.0}, {M_PI * 0.0015, M_PI}});
+TEST(ShippedDevices, TheMicrowiresTipTurns90DegreesOverItsLast3Millimetres) {
+  expectRestShape("microwire.urdf", {{0.547, 0.0}, {0.003, M_PI / 2.0}});
 }
 
 TEST(ShippedDevices, TheHeadhunterTurns120DegreesOverItsLast30Millimetres) {

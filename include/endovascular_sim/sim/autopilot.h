@@ -31,14 +31,20 @@ struct AutopilotOptions {
   double aim_tolerance{0.45};      // [rad] aim error below which it advances near an ostium
   double approach_distance{0.02};  // [m] beyond the parent's radius: aiming starts there
   double follow_lag{0.03};         // [m] the outer device's tip stays this far behind the inner's
-  double outer_fit{1.3};  // the outer device goes into a vessel at least this many of its radii
-                          // in radius (beyond, the inner device goes on alone)
-  double depth{0.02};     // [m] inside the target: reached (with dwell; requiredDepth)
-  double dwell{0.5};      // [s]
+  double outer_fit{1.3};    // the outer device goes into a vessel at least this many of its radii
+                            // in radius (beyond, the inner device goes on alone)
+  double depth{0.02};       // [m] inside the target: reached (with dwell; requiredDepth)
+  double dwell{0.5};        // [s]
+  double probe_after{1.0};  // [s] turning toward a branch without the tip following: then ...
+  double probe_pace{0.25};  // ... it advances at this fraction of its speed while it turns
   int max_retries{12};
   double stuck_time{3.0};  // [s] without progress along the path: pull back, retry
   double timeout{90.0};    // [s] of simulated time
 };
+
+/// Length [m] of a device's last section: its shaped tip (a J, an angle,
+/// a catheter's curve), which the autopilot turns toward where it goes.
+double shapedLength(const DeviceModel& m);
 
 enum class AutopilotPhase { kAdvance, kAim, kRetract, kDwell, kReached, kFailed };
 const char* phaseName(AutopilotPhase phase);
@@ -94,6 +100,15 @@ class Autopilot {
   /// Rotation [rad] about the shaft that turns a device's bent tip toward `want`.
   double tipBendAngle(const SceneModel& model, const SimData& data, int device,
                       const Vec3& want) const;
+  /// The rotation [rad] that turns the tip toward a branch of the path,
+  /// offset on each retry (0, then +-0.6, +-1.2 rad and a half turn about
+  /// the aim): the tip that did not take the branch aimed is turned a
+  /// little either way, as a hand searches for an ostium.
+  double searchTurn(double turn) const;
+  /// The fraction of its speed a tip advances at while `turning` toward a
+  /// branch: none at first, probe_pace after probe_after seconds (a tip
+  /// held by the wall turns only as it moves), all when aimed.
+  double turningPace(bool turning, double t);
   /// The catheter technique for a wire inside a catheter, up to the first
   /// branch of the plan: the wire leads around the curve with the catheter
   /// behind it; past the branch's ostium the wire is drawn into the
@@ -107,6 +122,8 @@ class Autopilot {
   /// The branch of `plan` the catheter engages next (host_, branch_); false
   /// when none is left or it is too narrow for the catheter.
   bool choosePairBranch(const SceneModel& model, const SimData& data, const std::vector<int>& plan);
+  /// How far [m] before a bifurcation the wire is drawn into the catheter.
+  double parkBefore(const PairView& v) const;
   std::string leadStage(const PairView& v);
   std::string backOutStage(const PairView& v);
   std::string parkStage(const PairView& v);
@@ -153,10 +170,12 @@ class Autopilot {
   std::vector<TargetProgress> goal_progress_;  // the target's dwell, judged every step
   int current_vessel_{-1};
   double last_turn_{0.0};
+  double turning_since_{-1.0};  // [s] when the tip began turning toward a branch (-1: aimed)
   enum class PairStage { kLead, kBackOut, kPark, kEngage, kWireIn, kFollow, kOver };  // NOLINT
   PairStage stage_{PairStage::kLead};
-  double stage_since_{0.0};    // [s] when the pair entered its stage
-  int host_{-1}, branch_{-1};  // the vessel the catheter engages from, and the branch
+  double stage_since_{0.0};     // [s] when the pair entered its stage
+  int host_{-1}, branch_{-1};   // the vessel the catheter engages from, and the branch
+  bool catheter_leads_{false};  // the wire missed the bifurcation's branch: the catheter leads
   double travel_{1.0};  // direction of travel along the host (+1: away from its origin)  // [rad]
                         // the last aim error, for its sign near a half turn
 };

@@ -52,12 +52,36 @@ DriveSpec readDrive(const YamlReader& r, const YAML::Node& n, const std::string&
   return drive;
 }
 
+/// A device of another length than its file's, as catheters and wires come
+/// in several: the first (proximal) section takes the difference, at the
+/// file's element length or finer.
+void resizeShaft(const YamlReader& r, const YAML::Node& n, const std::string& key,
+                 DeviceSpec* device) {
+  const double length = r.number(n, key);
+  double distal = 0.0;
+  for (size_t i = 1; i < device->sections.size(); ++i) distal += device->sections[i].length;
+  DeviceSectionSpec& shaft = device->sections.front();
+  if (!(length <= 10.0) || !(length >= distal + 1e-3)) {
+    std::ostringstream why;
+    why << "must lie in [" << (distal + 1e-3) << ", 10] m: its first section '" << shaft.name
+        << "' takes the change, and the sections beyond it are " << distal << " m long";
+    r.fail(n, key, why.str());
+  }
+  const double element = shaft.length / shaft.elements;
+  shaft.length = length - distal;
+  shaft.elements = std::max(1, static_cast<int>(std::ceil(shaft.length / element - 1e-6)));
+  if (shaft.elements > kMaxDeviceElements)
+    r.fail(n, key,
+           "makes its first section " + std::to_string(shaft.elements) +
+               " elements long, more than the limit of 100000");
+}
+
 DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int index,
                                const fs::path& scene_dir) {
   const std::string p = "devices[" + std::to_string(index) + "].";
   r.keys(n, p.substr(0, p.size() - 1),
          {"file", "name", "inside", "access_point", "insertion_direction", "up", "inserted_length",
-          "rotation", "max_element_length", "drive"});
+          "rotation", "length", "max_element_length", "drive"});
   DevicePlacementSpec d;
   const fs::path file = r.text(r.required(n, "file", p + "file"), p + "file");
   d.file = (file.is_absolute() ? file : scene_dir / file).lexically_normal().string();
@@ -88,6 +112,7 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
     const Vec3 up = n["up"] ? r.vector3(n["up"], p + "up") : Vec3(0.0, 0.0, 1.0);
     d.introducer.frame = introducerFrame(dir, up);
   }
+  if (n["length"]) resizeShaft(r, n["length"], p + "length", &d.device);
   if (n["max_element_length"]) {  // a finer discretisation than the device file's
     const double h = r.number(n["max_element_length"], p + "max_element_length");
     if (!(h >= kMinElementLength))

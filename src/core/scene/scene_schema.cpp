@@ -129,6 +129,12 @@ std::vector<SchemaEntry> makeSchema() {
           .def("0")
           .in("[]", 0, 1000),
       Key("devices[].rotation", T::kNumber, "its rotation at the start").unit("rad").def("0"),
+      Key("devices[].length", T::kNumber,
+          "the device's length (a catheter of 65, 100 or 125 cm): its first (proximal) section "
+          "lengthened or shortened to it, at the file's element length")
+          .unit("m")
+          .def("the file's")
+          .in("[]", 1e-3, 10),
       Key("devices[].max_element_length", T::kNumber,
           "refine the device file's sections to at most this element length (at most 100,000 "
           "elements); also the scene's limit for coarser variants")

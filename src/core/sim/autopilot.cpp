@@ -59,6 +59,13 @@ double pathLeft(const VesselAtlas& atlas, const std::vector<int>& path, double d
 
 }  // namespace
 
+double shapedLength(const DeviceModel& m) {
+  const int last = m.element_section.back();
+  int first = static_cast<int>(m.element_section.size()) - 1;
+  while (first > 0 && m.element_section[first - 1] == last) --first;
+  return m.length - m.node_s[first];
+}
+
 Autopilot::Autopilot(const SceneModel& model, const SimData& data, const std::string& target,
                      const std::string& device, const AutopilotOptions& options)
     : options_(options) {
@@ -196,10 +203,7 @@ double Autopilot::tipBendAngle(const SceneModel& model, const SimData& data, int
   const DeviceModel& m = model.devices[device];
   const std::vector<Vec3>& x = data.devices[device].position;
   // The shaft's direction just behind the tip's section (its shaped part).
-  const int last = m.element_section.back();
-  int first = static_cast<int>(m.element_section.size()) - 1;
-  while (first > 0 && m.element_section[first - 1] == last) --first;
-  const double shaped = m.length - m.node_s[first];
+  const double shaped = shapedLength(m);
   const int back1 = nodeBehindTip(m, shaped + 0.003), back2 = nodeBehindTip(m, shaped + 0.013);
   if (back2 >= back1) return 0.0;
   const Vec3 shaft = (x[back1] - x[back2]).normalized();
@@ -210,6 +214,20 @@ double Autopilot::tipBendAngle(const SceneModel& model, const SimData& data, int
   bend.normalize();
   w.normalize();
   return std::atan2(shaft.dot(bend.cross(w)), bend.dot(w));
+}
+
+double Autopilot::turningPace(bool turning, double t) {
+  if (!turning) {
+    turning_since_ = -1.0;
+    return 1.0;
+  }
+  if (turning_since_ < 0.0) turning_since_ = t;
+  return t - turning_since_ > options_.probe_after ? options_.probe_pace : 0.0;
+}
+
+double Autopilot::searchTurn(double turn) const {
+  static constexpr double kOffsets[] = {0.0, 0.6, -0.6, 1.2, -1.2, M_PI};
+  return std::remainder(turn + kOffsets[report_.retries % 6], 2 * M_PI);
 }
 
 std::string Autopilot::retryWhy(const VesselAtlas& atlas, const std::vector<int>& plan,
@@ -304,6 +322,8 @@ std::string Autopilot::steerLead(const SceneModel& model, SimData* data,
   // Away from an ostium off the path: each retry tries another quarter turn.
   if (aim.wanted && !aim.toward_path)
     turn = std::remainder(turn + 0.5 * M_PI * report_.retries, 2 * M_PI);
+  else if (aim.wanted)
+    turn = searchTurn(turn);
   // Near a half turn the sign is noise: keep turning the way it turned.
   if (std::abs(turn) > 2.5 && last_turn_ != 0.0) turn = std::copysign(std::abs(turn), last_turn_);
   last_turn_ = turn;
@@ -349,7 +369,7 @@ std::string Autopilot::steerLead(const SceneModel& model, SimData* data,
 
   // Near an ostium of the path: turn first, then advance.
   const bool hold = aim.wanted && aim.toward_path && std::abs(turn) > options_.aim_tolerance;
-  drive(model, data, hold ? 0.0 : options_.advance_speed, rotation);
+  drive(model, data, turningPace(hold, t) * options_.advance_speed, rotation);
   const std::string p = setPhase(
       hold ? AutopilotPhase::kAim : AutopilotPhase::kAdvance,
       hold ? "toward " + atlas.vessels()[path[1]].name : "in " + atlas.vessels()[at.vessel].name,

@@ -43,9 +43,11 @@ struct Autopilot::PairView {
   bool onPlan(int vessel) const {
     return std::find(plan.begin(), plan.end(), vessel) != plan.end();
   }
-  /// Position of a vessel in the plan (plan.end() when off it).
-  std::vector<int>::const_iterator at(int vessel) const {
-    return std::find(plan.begin(), plan.end(), vessel);
+  /// Whether `vessel` is on the plan beyond `branch` (a vessel off the
+  /// plan is not, wherever its lumen lies).
+  bool beyond(int vessel, int branch) const {
+    const auto at = std::find(plan.begin(), plan.end(), vessel);
+    return at != plan.end() && at > std::find(plan.begin(), plan.end(), branch);
   }
 };
 
@@ -83,6 +85,7 @@ bool Autopilot::choosePairBranch(const SceneModel& model, const SimData& data,
                           options_.outer_fit * model.devices[follow_].node_radius.back())
       return false;
     if (branch != branch_ && stage_ != PairStage::kLead) stage_ = PairStage::kLead;
+    if (branch != branch_) catheter_leads_ = false;
     host_ = host;
     branch_ = branch;
   }
@@ -205,13 +208,19 @@ constexpr auto kPos = DriveCommand::Mode::kPosition;
 constexpr auto kVel = DriveCommand::Mode::kVelocity;
 }  // namespace
 
+double Autopilot::parkBefore(const PairView& v) const {
+  // (With the catheter leading, the wire 1 cm ahead of it is drawn in
+  // before its tip reaches the fork.)
+  return v.host.radius + 0.003 + (catheter_leads_ ? 0.012 : 0.0);
+}
+
 std::string Autopilot::leadStage(const PairView& v) {
   const VesselAtlas& atlas = *v.model.atlas;
   // The wire in the branch, 1 cm deep (or half the branch) before the
   // catheter follows: at the ostium of a bifurcation's branch its tip,
   // pushed on by the catheter, slips into the sibling.
   const double held_depth = std::min(kTerminalEngageDepth, 0.5 * v.branch.length);
-  if (!v.wire_off_plan && (v.at(v.wire_at.vessel) > v.at(branch_) ||
+  if (!v.wire_off_plan && (v.beyond(v.wire_at.vessel, branch_) ||
                            (v.wire_at.vessel == branch_ && v.wire_at.depth >= held_depth))) {
     progress_time_ = v.t;
     return stageTo(PairStage::kFollow, "the wire is in " + v.branch.name + "; catheter follows",
@@ -220,11 +229,14 @@ std::string Autopilot::leadStage(const PairView& v) {
   if (v.wire_off_plan) {  // into a wrong vessel: both back out of it
     const std::string failed = retryOrFail("", v.t);
     if (!failed.empty()) return failed;
+    // At a bifurcation the catheter's shaped tip leads next: the wire is
+    // drawn into it before the fork, the catheter engages the branch.
+    catheter_leads_ = v.terminal;
     retract_until_ = std::max(0.0, v.wire.inserted_length - v.wire_at.depth - v.host.radius - 0.01);
     return stageTo(PairStage::kBackOut, "back out of " + atlas.vessels()[v.wire_at.vessel].name,
                    v.t);
   }
-  if (v.terminal ? v.cath_past > -(v.host.radius + 0.003) : v.cath_past > v.branch.radius + 0.005) {
+  if (v.terminal ? v.cath_past > -parkBefore(v) : v.cath_past > v.branch.radius + 0.005) {
     command(v.model, v.data, lead_, kPos, v.cath.inserted_length - 0.005, v.wire.rotation_angle);
     command(v.model, v.data, follow_, kVel, 0.0, 0.0);
     return stageTo(PairStage::kPark, "wire into the catheter, past the ostium of " + v.branch.name,
@@ -234,7 +246,8 @@ std::string Autopilot::leadStage(const PairView& v) {
   // ostia, and at a bifurcation toward the plan's daughter.
   const Aim aim = aimFor(v.model, *v.data, lead_, v.path);
   const bool steer = aim.wanted && (!aim.toward_path || isTerminalBranch(atlas, v.path[1]));
-  const double turn = steer ? tipBendAngle(v.model, *v.data, lead_, aim.direction) : 0.0;
+  double turn = steer ? tipBendAngle(v.model, *v.data, lead_, aim.direction) : 0.0;
+  if (steer && aim.toward_path) turn = searchTurn(turn);
   const std::vector<int> cath_path = atlas.path(v.cath_at.vessel, target_);
   const Aim cath_aim = aimFor(v.model, *v.data, follow_, cath_path);
   const double cath_turn = cath_aim.wanted && !cath_aim.toward_path
@@ -242,7 +255,7 @@ std::string Autopilot::leadStage(const PairView& v) {
                                : 0.0;
   // Near a bifurcation's branch of the path: turn first, then advance.
   const bool hold = steer && aim.toward_path && std::abs(turn) > options_.aim_tolerance;
-  command(v.model, v.data, lead_, kVel, hold ? 0.0 : options_.advance_speed,
+  command(v.model, v.data, lead_, kVel, turningPace(hold, v.t) * options_.advance_speed,
           options_.rotation_gain * turn);
   command(v.model, v.data, follow_, kPos, v.wire.inserted_length - 0.01,
           v.cath.rotation_angle + options_.rotation_gain * options_.control_period * cath_turn);
@@ -268,7 +281,8 @@ std::string Autopilot::parkStage(const PairView& v) {
 std::string Autopilot::engageStage(const PairView& v) {
   const VesselAtlas& atlas = *v.model.atlas;
   const std::string not_engaged = ": the catheter does not engage " + v.branch.name;
-  if (v.cath_past < -(v.branch.radius + 0.01)) {  // pulled back past it: advance and try again
+  const double missed = v.terminal ? parkBefore(v) + 0.005 : v.branch.radius + 0.01;
+  if (v.cath_past < -missed) {  // pulled back past it: advance and try again
     const std::string failed = retryOrFail(not_engaged, v.t);
     if (!failed.empty()) return failed;
     return stageTo(PairStage::kLead, "missed the ostium of " + v.branch.name + "; advance again",
@@ -308,7 +322,7 @@ std::string Autopilot::wireInStage(const PairView& v) {
   const bool hold_in = v.terminal && cath_in_branch.depth < kTerminalEngageDepth + 0.005;
   command(v.model, v.data, follow_, kVel, hold_in ? 0.3 * options_.advance_speed : 0.0, 0.0);
   const bool deep = !v.wire_off_plan && ((v.wire_at.vessel == branch_ && v.wire_at.depth > 0.02) ||
-                                         v.at(v.wire_at.vessel) > v.at(branch_));
+                                         v.beyond(v.wire_at.vessel, branch_));
   if (deep) {
     progress_time_ = v.t;
     return stageTo(PairStage::kFollow, "wire in " + v.branch.name + "; catheter follows", v.t);
@@ -320,9 +334,23 @@ std::string Autopilot::wireInStage(const PairView& v) {
     command(v.model, v.data, lead_, kPos, v.cath.inserted_length - 0.005, v.wire.rotation_angle);
     return stageTo(PairStage::kPark, "the wire missed " + v.branch.name + "; back in", v.t);
   }
-  // The wire's bent tip out of the catheter, toward the branch.
-  command(v.model, v.data, lead_, kVel, 0.5 * options_.advance_speed,
-          options_.rotation_gain * tipBendAngle(v.model, *v.data, lead_, v.take));
+  // The wire's bent tip out of the catheter, toward the branch; once in a
+  // short branch, toward the plan's next vessel at its far end (as in
+  // steerLead: turned first, then advanced).
+  // (Held while it turns only once its shaped tip is out of the catheter.)
+  Vec3 want = v.take;
+  bool toward_next = false;
+  const double tip_out = v.wire.inserted_length - v.cath.inserted_length;
+  if (v.wire_at.vessel == branch_ && tip_out > shapedLength(v.model.devices[lead_]) + 0.002) {
+    const Aim aim = aimFor(v.model, *v.data, lead_, v.path);
+    if (aim.wanted) want = aim.direction;
+    toward_next = aim.wanted && aim.toward_path;
+  }
+  double turn = tipBendAngle(v.model, *v.data, lead_, want);
+  if (toward_next) turn = searchTurn(turn);
+  const bool hold = toward_next && std::abs(turn) > options_.aim_tolerance;
+  command(v.model, v.data, lead_, kVel, turningPace(hold, v.t) * 0.5 * options_.advance_speed,
+          options_.rotation_gain * turn);
   return "";
 }
 
@@ -348,9 +376,9 @@ std::string Autopilot::followStage(const PairView& v) {
   if (branch_ != target_) {
     const Aim aim = aimFor(v.model, *v.data, lead_, v.path);
     turn = aim.wanted ? tipBendAngle(v.model, *v.data, lead_, aim.direction) : 0.0;
-    advance = aim.wanted && aim.toward_path && std::abs(turn) > options_.aim_tolerance
-                  ? 0.0
-                  : 0.5 * options_.advance_speed;
+    advance =
+        turningPace(aim.wanted && aim.toward_path && std::abs(turn) > options_.aim_tolerance, v.t) *
+        0.5 * options_.advance_speed;
   }
   command(v.model, v.data, lead_, kVel, advance, options_.rotation_gain * turn);
   // (never drawn back to the lag: the wire's support would move, and its
