@@ -132,7 +132,7 @@ void SimulationLoop::endNavigation(const std::string& why) {
   if (!pilot_) return;
   const bool preempted = !pilot_->done();
   for (size_t i = 0; model_ && i < data_.commands.size(); ++i)
-    data_.commands[i] = DriveCommand{};  // the drives stop where they are
+    applyCommand(&data_, static_cast<int>(i), DriveCommand{});  // the drives stop where they are
   std::string event;
   if (preempted) event = why;
   shareNavigation(event);

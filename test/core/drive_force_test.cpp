@@ -204,6 +204,23 @@ TEST(DriveLimit, AWirePushedIntoAClosedTubeStallsAtTheLimit) {
   EXPECT_FALSE(held.notices.empty());  // it said so
 }
 
+TEST(DriveLimit, AStalledWireThatFellAsleepBacksOutOnAControllersCommand) {
+  // Stalled against the tube's end the wire rests and the scene sleeps; a
+  // controller's new command (applyCommand, as the autopilot's each tick)
+  // wakes it and the wire backs out at the commanded speed.
+  SceneModel model;
+  SimData data = pushIntoTheClosedTube(1.0, 2600, &model);
+  for (int k = 0; k < 4000 && !data.asleep; ++k)
+    ASSERT_EQ(step(model, &data), StepStatus::kOk) << data.last_error;
+  ASSERT_TRUE(data.asleep) << "the stalled wire rests";
+  ASSERT_EQ(data.stalls[0].insertion, 1);
+  const double stalled_at = data.devices[0].inserted_length;
+  applyCommand(&data, 0, DriveCommand{DriveCommand::Mode::kVelocity, -0.01, 0.0});
+  EXPECT_FALSE(data.asleep);
+  for (int k = 0; k < 200; ++k) ASSERT_EQ(step(model, &data), StepStatus::kOk) << data.last_error;
+  EXPECT_NEAR(data.devices[0].inserted_length, stalled_at - 0.002, 1e-9);
+}
+
 /// dead_end's 5 mm tube with a 0.24 mm neck 6 mm long 21 mm in, and a
 /// straight 0.8 mm wire placed through it: no forces let the wire's points
 /// in the neck clear its opposite walls.

@@ -176,6 +176,7 @@ class Autopilot {
   double stage_since_{0.0};     // [s] when the pair entered its stage
   int host_{-1}, branch_{-1};   // the vessel the catheter engages from, and the branch
   bool catheter_leads_{false};  // the wire missed the bifurcation's branch: the catheter leads
+  bool wire_selects_{false};    // the catheter did not engage the branch: the wire steers into it
   double travel_{1.0};  // direction of travel along the host (+1: away from its origin)  // [rad]
                         // the last aim error, for its sign near a half turn
 };

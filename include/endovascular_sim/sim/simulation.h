@@ -158,6 +158,12 @@ std::string detachDevice(const SceneModel& model, SimData* data, const std::stri
 /// call it; so must a caller that changes the state or the model by hand.
 void wake(SimData* data);
 
+/// Sets device `device`'s drive command as a controller does at each tick
+/// (the command already within the device's limits), waking the scene when
+/// it changes: a sleeping scene (a drive stalled against a wall rests too)
+/// follows a new command at once.
+void applyCommand(SimData* data, int device, const DriveCommand& command);
+
 /// Sets a device's drive command; returns why it was refused ("" if accepted).
 std::string setCommand(const SceneModel& model, SimData* data, const std::string& device,
                        const DriveCommand& command);

@@ -137,7 +137,7 @@ void Autopilot::drive(const SceneModel& model, SimData* data, double insertion_s
   DriveCommand lead;
   lead.insertion = std::clamp(insertion_speed, -m.max_insertion_speed, m.max_insertion_speed);
   lead.rotation = std::clamp(rotation_speed, -m.max_rotation_speed, m.max_rotation_speed);
-  data->commands[lead_] = lead;
+  applyCommand(data, lead_, lead);
   if (follow_ < 0) return;
   // The outer device keeps its tip follow_lag behind the inner one's, but
   // goes no deeper once its tip is in a vessel too narrow for it (less than
@@ -159,7 +159,7 @@ void Autopilot::drive(const SceneModel& model, SimData* data, double insertion_s
       model.atlas->vessels()[outer_vessel].radius < options_.outer_fit * o.node_radius.back())
     outer.insertion = std::min(outer.insertion, data->devices[follow_].inserted_length);
   outer.rotation = data->devices[follow_].rotation_angle;
-  data->commands[follow_] = outer;
+  applyCommand(data, follow_, outer);
 }
 
 Autopilot::Aim Autopilot::aimFor(const SceneModel& model, const SimData& data, int device,

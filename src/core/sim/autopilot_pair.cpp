@@ -85,7 +85,7 @@ bool Autopilot::choosePairBranch(const SceneModel& model, const SimData& data,
                           options_.outer_fit * model.devices[follow_].node_radius.back())
       return false;
     if (branch != branch_ && stage_ != PairStage::kLead) stage_ = PairStage::kLead;
-    if (branch != branch_) catheter_leads_ = false;
+    if (branch != branch_) catheter_leads_ = wire_selects_ = false;
     host_ = host;
     branch_ = branch;
   }
@@ -99,6 +99,12 @@ std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
   if (!choosePairBranch(model, *data, plan)) {
     stage_ = PairStage::kOver;
     return "";
+  }
+  // A catheter inserted to its full length goes no deeper: the wire goes on
+  // alone from there.
+  if (data->devices[follow_].inserted_length >= model.devices[follow_].length - 0.002) {
+    stage_ = PairStage::kOver;
+    return "t=" + std::to_string(t) + " s  the catheter is fully inserted; the wire goes on";
   }
   PairView v{model,
              data,
@@ -185,7 +191,7 @@ void Autopilot::command(const SceneModel& model, SimData* data, int device, Driv
   c.rotation = mode == DriveCommand::Mode::kPosition
                    ? rotation
                    : std::clamp(rotation, -m.max_rotation_speed, m.max_rotation_speed);
-  data->commands[device] = c;
+  applyCommand(data, device, c);
 }
 
 std::string Autopilot::stageTo(PairStage next, const std::string& what, double t) {
@@ -236,7 +242,9 @@ std::string Autopilot::leadStage(const PairView& v) {
     return stageTo(PairStage::kBackOut, "back out of " + atlas.vessels()[v.wire_at.vessel].name,
                    v.t);
   }
-  if (v.terminal ? v.cath_past > -parkBefore(v) : v.cath_past > v.branch.radius + 0.005) {
+  // (A wire already in the branch goes on: the catheter follows it there.)
+  if (v.wire_at.vessel != branch_ &&
+      (v.terminal ? v.cath_past > -parkBefore(v) : v.cath_past > v.branch.radius + 0.005)) {
     command(v.model, v.data, lead_, kPos, v.cath.inserted_length - 0.005, v.wire.rotation_angle);
     command(v.model, v.data, follow_, kVel, 0.0, 0.0);
     return stageTo(PairStage::kPark, "wire into the catheter, past the ostium of " + v.branch.name,
@@ -245,7 +253,10 @@ std::string Autopilot::leadStage(const PairView& v) {
   // Both advance, the wire 1 cm ahead, its tip turned away from other
   // ostia, and at a bifurcation toward the plan's daughter.
   const Aim aim = aimFor(v.model, *v.data, lead_, v.path);
-  const bool steer = aim.wanted && (!aim.toward_path || isTerminalBranch(atlas, v.path[1]));
+  // (Toward a side branch the wire steers once the catheter failed to
+  // engage it: its angled tip may take the branch, the catheter following.)
+  const bool steer =
+      aim.wanted && (!aim.toward_path || isTerminalBranch(atlas, v.path[1]) || wire_selects_);
   double turn = steer ? tipBendAngle(v.model, *v.data, lead_, aim.direction) : 0.0;
   if (steer && aim.toward_path) turn = searchTurn(turn);
   const std::vector<int> cath_path = atlas.path(v.cath_at.vessel, target_);
@@ -282,6 +293,9 @@ std::string Autopilot::engageStage(const PairView& v) {
   const VesselAtlas& atlas = *v.model.atlas;
   const std::string not_engaged = ": the catheter does not engage " + v.branch.name;
   const double missed = v.terminal ? parkBefore(v) + 0.005 : v.branch.radius + 0.01;
+  // However it fails (below), the wire tries the branch first next time.
+  wire_selects_ |= v.cath_past < -missed || !v.onPlan(v.cath_at.vessel) ||
+                   v.t - stage_since_ > 2.0 * options_.stuck_time;
   if (v.cath_past < -missed) {  // pulled back past it: advance and try again
     const std::string failed = retryOrFail(not_engaged, v.t);
     if (!failed.empty()) return failed;
@@ -295,11 +309,14 @@ std::string Autopilot::engageStage(const PairView& v) {
     return stageTo(PairStage::kBackOut,
                    "catheter in " + atlas.vessels()[v.cath_at.vessel].name + "; back out", v.t);
   }
-  if (v.t - stage_since_ > 2.0 * options_.stuck_time) {  // no engagement: lead again
+  if (v.t - stage_since_ > 2.0 * options_.stuck_time) {
+    // No engagement: both back until the wire's tip is 1.5 cm before the
+    // ostium, and the wire leads toward it again (wire_selects_).
     const std::string failed = retryOrFail(not_engaged, v.t);
     if (!failed.empty()) return failed;
-    return stageTo(PairStage::kLead, "the catheter does not engage " + v.branch.name + "; again",
-                   v.t);
+    retract_until_ = std::max(0.0, v.wire.inserted_length - std::max(0.0, v.cath_past) - 0.015);
+    return stageTo(PairStage::kBackOut,
+                   "the catheter does not engage " + v.branch.name + "; the wire tries it", v.t);
   }
   const double turn = tipBendAngle(v.model, *v.data, follow_, v.take);
   const bool aimed = std::abs(turn) < options_.aim_tolerance;
@@ -364,10 +381,19 @@ std::string Autopilot::followStage(const PairView& v) {
     best_remaining_ = 1e9;
     return "t=" + std::to_string(v.t) + " s  the wire is in the target";
   }
-  if (followed || v.t - progress_time_ > options_.stuck_time) {
+  if (followed) {
     progress_time_ = v.t;
     best_remaining_ = 1e9;
     return stageTo(PairStage::kLead, "catheter in " + atlas.vessels()[v.cath_at.vessel].name, v.t);
+  }
+  if (v.t - progress_time_ > options_.stuck_time) {
+    // The catheter does not follow into the branch: the wire goes on alone,
+    // the catheter trailing it where it fits (drive()).
+    progress_time_ = v.t;
+    best_remaining_ = 1e9;
+    stage_ = PairStage::kOver;
+    return "t=" + std::to_string(v.t) + " s  the catheter does not follow into " + v.branch.name +
+           "; the wire goes on";
   }
   // The wire holds in the target's own branch (its dwell is judged);
   // toward a deeper target it goes on slowly, steered away from other

@@ -459,9 +459,13 @@ std::string setCommand(const SceneModel& model, SimData* data, const std::string
   if (i < 0) return "unknown device '" + device + "'";
   std::string why = validateDriveCommand(command, model.devices[i]);
   if (!why.empty()) return why;
-  if (!sameCommand(data->commands[i], command)) wake(data);
-  data->commands[i] = command;
+  applyCommand(data, i, command);
   return "";
+}
+
+void applyCommand(SimData* data, int device, const DriveCommand& command) {
+  if (!sameCommand(data->commands[device], command)) wake(data);
+  data->commands[device] = command;
 }
 
 StepStatus step(const SceneModel& model, SimData* data) {
