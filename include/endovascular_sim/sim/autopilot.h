@@ -149,8 +149,8 @@ class Autopilot {
   /// Why the tip must be pulled back and the approach repeated (a wrong
   /// vessel, slid past the ostium, no progress), and *pull [m]; "" if not.
   std::string retryWhy(const VesselAtlas& atlas, const std::vector<int>& plan,
-                       const std::vector<int>& path, const VesselLocation& at, double remaining,
-                       double t, double* pull) const;
+                       const std::vector<int>& path, const VesselLocation& at, const Vec3& tip,
+                       double remaining, double t, double* pull) const;
   void drive(const SceneModel& model, SimData* data, double insertion_speed, double rotation);
   void fail(const std::string& why, double t);
 

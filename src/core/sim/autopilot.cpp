@@ -232,9 +232,15 @@ double Autopilot::searchTurn(double turn) const {
 
 std::string Autopilot::retryWhy(const VesselAtlas& atlas, const std::vector<int>& plan,
                                 const std::vector<int>& path, const VesselLocation& at,
-                                double remaining, double t, double* pull) const {
+                                const Vec3& tip, double remaining, double t, double* pull) const {
   std::string retry;
-  if (std::find(plan.begin(), plan.end(), at.vessel) == plan.end() && at.vessel != target_) {
+  // A wrong vessel: one off the plan, its tip in no lumen of the plan's
+  // (past a bifurcation both daughters' lumens hold the first millimetres).
+  const bool off_plan =
+      std::find(plan.begin(), plan.end(), at.vessel) == plan.end() && at.vessel != target_ &&
+      std::none_of(plan.begin(), plan.end(),
+                   [&](int vessel) { return atlas.locateIn(vessel, tip).inside; });
+  if (off_plan) {
     retry = "entered " + atlas.vessels()[at.vessel].name;
     *pull =
         at.depth +
@@ -352,7 +358,8 @@ std::string Autopilot::steerLead(const SceneModel& model, SimData* data,
   }
   // Wrong vessel, slid past the ostium, or stuck: pull back and try again.
   double pull = 0.0;
-  const std::string retry = retryWhy(atlas, plan, path, at, remaining, t, &pull);
+  const std::string retry =
+      retryWhy(atlas, plan, path, at, lead.position.back(), remaining, t, &pull);
   if (!retry.empty()) {
     if (++report_.retries > options_.max_retries) {
       fail("retries exhausted (" + std::to_string(options_.max_retries) + "), last: " + retry, t);

@@ -354,17 +354,18 @@ std::string Autopilot::wireInStage(const PairView& v) {
   // The wire's bent tip out of the catheter, toward the branch; once in a
   // short branch, toward the plan's next vessel at its far end (as in
   // steerLead: turned first, then advanced).
-  // (Held while it turns only once its shaped tip is out of the catheter.)
+  // (Held while it turns only once its shaped tip is out of the catheter;
+  // each retry turns it a little aside, searchTurn.)
   Vec3 want = v.take;
   bool toward_next = false;
-  const double tip_out = v.wire.inserted_length - v.cath.inserted_length;
-  if (v.wire_at.vessel == branch_ && tip_out > shapedLength(v.model.devices[lead_]) + 0.002) {
+  if (v.wire_at.vessel == branch_) {
     const Aim aim = aimFor(v.model, *v.data, lead_, v.path);
     if (aim.wanted) want = aim.direction;
-    toward_next = aim.wanted && aim.toward_path;
+    const double tip_out = v.wire.inserted_length - v.cath.inserted_length;
+    toward_next =
+        aim.wanted && aim.toward_path && tip_out > shapedLength(v.model.devices[lead_]) + 0.002;
   }
-  double turn = tipBendAngle(v.model, *v.data, lead_, want);
-  if (toward_next) turn = searchTurn(turn);
+  const double turn = searchTurn(tipBendAngle(v.model, *v.data, lead_, want));
   const bool hold = toward_next && std::abs(turn) > options_.aim_tolerance;
   command(v.model, v.data, lead_, kVel, turningPace(hold, v.t) * 0.5 * options_.advance_speed,
           options_.rotation_gain * turn);
