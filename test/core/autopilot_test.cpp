@@ -100,7 +100,7 @@ INSTANTIATE_TEST_SUITE_P(
 
 // Deep in the generated network: the pair engages the left common and
 // external carotids and the external carotid's first branch, then the
-// microwire's small J takes that branch's first daughter (4 bifurcations
+// microwire's angled tip takes that branch's first daughter (4 bifurcations
 // from the access). Judged against the generated centreline's polyline of
 // the target (the scene's skeleton), not the atlas the autopilot steers by.
 TEST(NetworkNavigation, AMicrowireReachesABranchFourBifurcationsDeep) {

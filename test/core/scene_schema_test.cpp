@@ -176,6 +176,7 @@ TEST(SceneSchema, TheLoaderIsNoStricterThanTheSchemaAtItsBounds) {
   const std::set<std::string> elsewhere = {
       "duration",                        // at least time_step
       "devices[].inserted_length",       // at most the device's length
+      "devices[].length",                // at least its distal sections' length
       "devices[].max_element_length",    // at most 100,000 elements in the device
       "xray.source_isocenter_distance",  // at most 0.95 source_detector_distance
       "xray.source_detector_distance",   // at least source_isocenter_distance / 0.95
