@@ -46,6 +46,11 @@ struct AutopilotOptions {
 /// a catheter's curve), which the autopilot turns toward where it goes.
 double shapedLength(const DeviceModel& m);
 
+/// Whether a tip at `tip` [m], located in `vessel`, is off `plan`: in a
+/// vessel not on it, and in no lumen of the plan's (past a bifurcation both
+/// daughters' lumens hold the first millimetres).
+bool offPlan(const VesselAtlas& atlas, const std::vector<int>& plan, int vessel, const Vec3& tip);
+
 enum class AutopilotPhase { kAdvance, kAim, kRetract, kDwell, kReached, kFailed };
 const char* phaseName(AutopilotPhase phase);
 
@@ -169,7 +174,7 @@ class Autopilot {
   double progress_time_{0.0};
   std::vector<TargetProgress> goal_progress_;  // the target's dwell, judged every step
   int current_vessel_{-1};
-  double last_turn_{0.0};
+  double last_turn_{0.0};       // [rad] the last aim error, for its sign near a half turn
   double turning_since_{-1.0};  // [s] when the tip began turning toward a branch (-1: aimed)
   enum class PairStage { kLead, kBackOut, kPark, kEngage, kWireIn, kFollow, kOver };  // NOLINT
   PairStage stage_{PairStage::kLead};
@@ -177,8 +182,7 @@ class Autopilot {
   int host_{-1}, branch_{-1};   // the vessel the catheter engages from, and the branch
   bool catheter_leads_{false};  // the wire missed the bifurcation's branch: the catheter leads
   bool wire_selects_{false};    // the catheter did not engage the branch: the wire steers into it
-  double travel_{1.0};  // direction of travel along the host (+1: away from its origin)  // [rad]
-                        // the last aim error, for its sign near a half turn
+  double travel_{1.0};          // direction of travel along the host (+1: away from its origin)
 };
 
 /// Runs the autopilot headless from `data` until it ends, as `evsim

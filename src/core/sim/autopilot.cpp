@@ -66,6 +66,12 @@ double shapedLength(const DeviceModel& m) {
   return m.length - m.node_s[first];
 }
 
+bool offPlan(const VesselAtlas& atlas, const std::vector<int>& plan, int vessel, const Vec3& tip) {
+  return std::find(plan.begin(), plan.end(), vessel) == plan.end() &&
+         std::none_of(plan.begin(), plan.end(),
+                      [&](int on) { return atlas.locateIn(on, tip).inside; });
+}
+
 Autopilot::Autopilot(const SceneModel& model, const SimData& data, const std::string& target,
                      const std::string& device, const AutopilotOptions& options)
     : options_(options) {
@@ -234,13 +240,7 @@ std::string Autopilot::retryWhy(const VesselAtlas& atlas, const std::vector<int>
                                 const std::vector<int>& path, const VesselLocation& at,
                                 const Vec3& tip, double remaining, double t, double* pull) const {
   std::string retry;
-  // A wrong vessel: one off the plan, its tip in no lumen of the plan's
-  // (past a bifurcation both daughters' lumens hold the first millimetres).
-  const bool off_plan =
-      std::find(plan.begin(), plan.end(), at.vessel) == plan.end() && at.vessel != target_ &&
-      std::none_of(plan.begin(), plan.end(),
-                   [&](int vessel) { return atlas.locateIn(vessel, tip).inside; });
-  if (off_plan) {
+  if (offPlan(atlas, plan, at.vessel, tip)) {  // a wrong vessel
     retry = "entered " + atlas.vessels()[at.vessel].name;
     *pull =
         at.depth +

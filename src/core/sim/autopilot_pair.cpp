@@ -124,12 +124,7 @@ std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
   else if (atlas.vessels()[v.cath_at.vessel].parent == host_ &&
            std::abs(atlas.vessels()[v.cath_at.vessel].origin_depth - v.branch.origin_depth) < 1e-6)
     v.cath_past = v.cath_at.depth;
-  // Off the plan: in another vessel and in no lumen of the plan's (past a
-  // bifurcation both daughters' lumens hold the first millimetres).
-  v.wire_off_plan =
-      !v.onPlan(v.wire_at.vessel) && std::none_of(v.plan.begin(), v.plan.end(), [&](int vessel) {
-        return atlas.locateIn(vessel, v.wire.position.back()).inside;
-      });
+  v.wire_off_plan = offPlan(atlas, v.plan, v.wire_at.vessel, v.wire.position.back());
   v.out = (atlas.pointAt(branch_, std::min(v.branch.length, 1.5 * v.host.radius + 0.005)) -
            atlas.pointAt(branch_, 0.0))
               .normalized();
