@@ -36,6 +36,44 @@ TEST(ChainFactor, SolvesLikeADenseCholeskyAndLikeCholmod) {
   }
 }
 
+// A + C with C on the trailing blocks only (the wall's curvature term on a
+// wire touching the wall near its tip): the factor that copies A's pivots
+// before C solves like a dense Cholesky of A + C, and gives the numbers a
+// factorisation of A + C from scratch gives, to the last bit.
+TEST(ChainFactor, ReusesTheFactorOfAMatrixThatSharesItsLeadingBlocks) {
+  std::mt19937 rng(5);
+  const int blocks = 40;
+  for (int first : {0, 3}) {
+    for (int changed_from : {first, first + 1, 17, blocks - 1}) {
+      const ChainMatrix A = test::randomSpdChain(blocks, &rng);
+      ChainMatrix AC = A;
+      const ChainMatrix C = test::randomSpdChain(blocks, &rng);  // its trailing part: PSD
+      for (int i = changed_from; i < blocks; ++i) {
+        AC.diag[i] += C.diag[i];
+        if (i + 1 < blocks) AC.upper[i] += C.upper[i];
+      }
+      ChainFactor of_A, reused, scratch;
+      ASSERT_TRUE(of_A.factorize(A, first));
+      ASSERT_TRUE(reused.factorize(AC, first, &of_A, changed_from - first));
+      ASSERT_TRUE(scratch.factorize(AC, first));
+      const int n = 6 * (blocks - first);
+      const MatX B = MatX::Random(n, 3);
+      MatX X, Y;
+      reused.solve(B, &X);
+      scratch.solve(B, &Y);
+      const MatX reference = AC.toDense().bottomRightCorner(n, n).llt().solve(B);
+      EXPECT_LT((X - reference).norm(), 1e-12 * reference.norm()) << first << " " << changed_from;
+      EXPECT_EQ(X, Y) << first << " " << changed_from;
+      // A prefix claimed longer than the chain is cut to it.
+      ChainFactor clamped;
+      ASSERT_TRUE(clamped.factorize(A, first, &of_A, 1000));
+      clamped.solve(B, &X);
+      of_A.solve(B, &Y);
+      EXPECT_EQ(X, Y);
+    }
+  }
+}
+
 TEST(ChainFactor, ReportsAMatrixThatIsNotPositiveDefinite) {
   std::mt19937 rng(4);
   ChainMatrix A = test::randomSpdChain(20, &rng);

@@ -63,5 +63,10 @@ SurfacePoint firstRootBetween(const ImplicitSurface& field, const Vec3& p0, cons
 SurfacePoint projectToSurface(const ImplicitSurface& field, const Vec3& x, double device_radius,
                               const MotionSnapshot& motion = {}, double max_distance = 0.01,
                               const RootOptions& options = {});
+/// projectToSurface with the field at x already evaluated (at = evaluate(x)).
+SurfacePoint projectToSurfaceFrom(const ImplicitSurface& field, const Vec3& x,
+                                  const FieldSample& at, double device_radius,
+                                  const MotionSnapshot& motion = {}, double max_distance = 0.01,
+                                  const RootOptions& options = {});
 
 }  // namespace evsim

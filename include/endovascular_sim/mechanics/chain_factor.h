@@ -21,8 +21,13 @@ namespace evsim {
 class ChainFactor {
  public:
   /// Factorises blocks [first, A.numBlocks()) of A; false when a pivot block
-  /// is not positive definite (the factor is then unusable).
-  bool factorize(const ChainMatrix& A, int first);
+  /// is not positive definite (the factor is then unusable). With `same`, a
+  /// factor of another matrix from the same `first` whose blocks (diagonal
+  /// and coupling) before first + same_blocks equal A's: the pivots there
+  /// are copied from it, not eliminated again (A + C with C on the distal
+  /// blocks only). Blocks before first + same_blocks of A are not read.
+  bool factorize(const ChainMatrix& A, int first, const ChainFactor* same = nullptr,
+                 int same_blocks = 0);
   /// Blocks of the factorised part.
   int numBlocks() const { return static_cast<int>(d_inv_.size()); }
   /// Dimension of the factorised part (6 numBlocks()).

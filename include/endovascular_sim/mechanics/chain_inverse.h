@@ -24,8 +24,10 @@ namespace evsim {
 class ChainInverse {
  public:
   /// Factorises blocks [first, A.numBlocks()) of A and computes the band;
-  /// false when a pivot block is not positive definite.
-  bool compute(const ChainMatrix& A, int first);
+  /// false when a pivot block is not positive definite. `same`, same_blocks:
+  /// a shared prefix's factor (ChainFactor::factorize).
+  bool compute(const ChainMatrix& A, int first, const ChainFactor* same = nullptr,
+               int same_blocks = 0);
   /// The band from a factor already made of the same matrix.
   void computeFrom(const ChainFactor& factor);
   /// Blocks of the factorised part (indices below are relative to `first`).

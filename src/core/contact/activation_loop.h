@@ -73,6 +73,23 @@ struct CurvatureTerm {
   bool empty() const { return element.empty(); }
 };
 
+/// The sample points' positions at one configuration, each computed on
+/// first use: the passes of detection (crossings, re-detection, tunnels)
+/// ask for the same points at x_t and at the loop's x.
+class SamplePositions {
+ public:
+  /// Forgets the positions: from now on those at *x (kept by address).
+  void reset(const ContactProblem& pb, const std::vector<DeviceState>* x);
+  /// Sample k of device d at *x [m].
+  const Vec3& at(int d, int k);
+
+ private:
+  const ContactProblem* pb_{nullptr};
+  const std::vector<DeviceState>* x_{nullptr};
+  std::vector<std::vector<Vec3>> p_;
+  std::vector<std::vector<char>> known_;
+};
+
 /// What the activation loop of one step carries from loop to loop.
 struct LoopState {
   LoopState(const ContactProblem& pb, std::vector<Contact>* contacts);
@@ -81,6 +98,8 @@ struct LoopState {
   std::vector<VecX> dq;         // the loop's iterate x - x_t
   std::vector<DeviceState> xf;  // x_t (+) dq_free
   std::vector<DeviceState> x;   // x_t (+) dq: the configuration the rows are linearised at
+  SamplePositions at_start;     // the points at x_t
+  SamplePositions at_x;         // and at x (reset with it)
   std::vector<Contact>* contacts;
   std::vector<std::vector<int>> contact_of;         // per device, sample -> contact or -1
   std::map<std::array<int, 4>, int> pair_contact;   // (device, element, device, element) -> contact
@@ -161,7 +180,8 @@ bool checkTunnels(const ContactProblem& pb, const ContactOptions& o, fields::Sam
 /// Returns true when a point beyond the wall has no plane.
 bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState>& x,
                          const RootOptions& root, fields::SampleFields* field,
-                         std::vector<Contact>* contacts, std::vector<std::vector<int>>* contact_of);
+                         SamplePositions* at_start, std::vector<Contact>* contacts,
+                         std::vector<std::vector<int>>* contact_of);
 
 // --- contact_system.cpp -----------------------------------------------------
 

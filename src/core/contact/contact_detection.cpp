@@ -93,6 +93,7 @@ bool hasKeptWallContacts(const ContactProblem& pb, double touching) {
 /// motion, and without its contact the first loops chase it millimetres
 /// away), their planes where their points at x_t project on the wall.
 void keepWallContacts(const ContactProblem& pb, const RootOptions& root, double touching,
+                      SampleFields* field, SamplePositions* at_start,
                       std::vector<Contact>* contacts, std::vector<std::vector<int>>* contact_of) {
   if (!pb.previous || !pb.surface) return;
   for (const Contact& prev : *pb.previous) {
@@ -100,9 +101,10 @@ void keepWallContacts(const ContactProblem& pb, const RootOptions& root, double 
     const int d = prev.device, k = prev.sample;
     if ((*contact_of)[d][k] >= 0) continue;
     const SamplePoint& s = (*pb.samples)[d][k];
+    const Vec3& p0 = at_start->at(d, k);
     const SurfacePoint plane =
-        projectToSurface(*pb.surface, samplePosition((*pb.devices)[d], (*pb.start)[d], s), s.radius,
-                         pb.motion, 0.01, root);
+        projectToSurfaceFrom(*pb.surface, p0, field->start(d, k, p0, s.radius, pb.motion), s.radius,
+                             pb.motion, 0.01, root);
     if (!plane.hit) continue;
     (*contact_of)[d][k] = static_cast<int>(contacts->size());
     Contact ct{d, k, plane.point, plane.normal, 0, 0};
@@ -179,11 +181,10 @@ Contact lumenContact(const LumenViolation& v, int outer) {
 /// beyond the wall has no plane (beyond every vessel's support: the step
 /// cannot be solved).
 bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState>& xf,
-                         const RootOptions& root, SampleFields* field,
+                         const RootOptions& root, SampleFields* field, SamplePositions* at_start,
                          std::vector<Contact>* contacts,
                          std::vector<std::vector<int>>* contact_of) {
   const auto& devices = *pb.devices;
-  const auto& start = *pb.start;
   const auto& samples = *pb.samples;
   const ImplicitSurface& surface = *pb.surface;
   bool stranded = false;
@@ -196,7 +197,8 @@ bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState
     SurfacePoint hit = g1 ? firstRootBetween(surface, p0, g0, p1, *g1, s.radius, pb.motion, root)
                           : firstRootFrom(surface, p0, g0, p1, s.radius, pb.motion, root);
     if (hit.hit && hit.started_outside) {
-      hit = projectToSurface(surface, p1, s.radius, pb.motion, 0.01, root);
+      hit = g1 ? projectToSurfaceFrom(surface, p1, *g1, s.radius, pb.motion, 0.01, root)
+               : projectToSurface(surface, p1, s.radius, pb.motion, 0.01, root);
       if (!hit.hit) stranded = true;  // beyond every vessel's support: no plane
     }
     return hit;
@@ -212,7 +214,7 @@ bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState
       if (best.sample < 0) return;
       const SamplePoint& s = samples[d][best.sample];
       if (!best.hit.hit)
-        best.hit = crossing(d, best.sample, samplePosition(devices[d], start[d], s),
+        best.hit = crossing(d, best.sample, at_start->at(d, best.sample),
                             samplePosition(devices[d], xf[d], s), nullptr);
       if (best.hit.hit) {
         (*contact_of)[d][best.sample] = static_cast<int>(contacts->size());
@@ -228,7 +230,7 @@ bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState
         element = s.element;
       }
       if (!takesPart(pb, d, s)) continue;
-      const Vec3 p0 = samplePosition(devices[d], start[d], s);
+      const Vec3& p0 = at_start->at(d, k);
       const Vec3 p1 = samplePosition(devices[d], xf[d], s);
       if (field->startInside(d, k, p0, p1, s.radius, pb.motion)) continue;
       if ((*contact_of)[d][k] >= 0) continue;  // a contact already (kept from the last step)
@@ -299,12 +301,13 @@ void detectLumenContacts(const ContactProblem& pb, double touching, LoopState* s
 }
 
 /// The plane for a point of device d, sample k, found beyond the wall at p
-/// (its path from p0 = its position at x_t): where p projects; beyond every
-/// vessel's support (a flat field, no projection), where the path crossed
-/// the wall.
+/// (its path from p0 = its position at x_t; g the field at p): where p
+/// projects; beyond every vessel's support (a flat field, no projection),
+/// where the path crossed the wall.
 SurfacePoint planeForViolation(const ContactProblem& pb, const RootOptions& root,
-                               const SamplePoint& sp, const Vec3& p0, const Vec3& p) {
-  SurfacePoint plane = projectToSurface(*pb.surface, p, sp.radius, pb.motion, 0.01, root);
+                               const SamplePoint& sp, const Vec3& p0, const Vec3& p,
+                               const FieldSample& g) {
+  SurfacePoint plane = projectToSurfaceFrom(*pb.surface, p, g, sp.radius, pb.motion, 0.01, root);
   if (plane.hit) return plane;
   // No projection (beyond every vessel's support the field is flat):
   // the wall where the point's path from x_t crossed it.
@@ -330,7 +333,6 @@ SurfacePoint planeForViolation(const ContactProblem& pb, const RootOptions& root
 bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFields* field,
                    int fresh_from, LoopState* s, double* deepest) {
   const auto& devices = *pb.devices;
-  const auto& start = *pb.start;
   const auto& samples = *pb.samples;
   const RootOptions& root = o.root;
   bool solved = true;
@@ -338,7 +340,7 @@ bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFiel
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& sp = samples[d][k];
       if (!takesPart(pb, d, sp)) continue;
-      const Vec3 p = samplePosition(devices[d], s->x[d], sp);
+      const Vec3& p = s->at_x.at(d, k);
       double depth_bound = 0.0;
       if (field->endWithinTolerance(d, k, p, sp.radius, pb.motion, o.penetration_tolerance,
                                     &depth_bound)) {
@@ -350,8 +352,8 @@ bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFiel
       if (depthOf(g) <= o.penetration_tolerance) continue;
       solved = false;
       if (s->contact_of[d][k] >= fresh_from) continue;  // just detected: solved first
-      const Vec3 p0 = samplePosition(devices[d], start[d], sp);
-      SurfacePoint plane = planeForViolation(pb, root, sp, p0, p);
+      const Vec3& p0 = s->at_start.at(d, k);
+      SurfacePoint plane = planeForViolation(pb, root, sp, p0, p, g);
       const int existing = s->contact_of[d][k];
       if (existing >= 0 && !s->updated[existing]) {
         // The paper's update: the tangent plane where x projects.
@@ -363,7 +365,9 @@ bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFiel
         continue;
       }
       if (existing < 0) {
-        SurfacePoint hit = firstRoot(*pb.surface, p0, p, sp.radius, pb.motion, root);
+        SurfacePoint hit =
+            firstRootFrom(*pb.surface, p0, field->start(d, k, p0, sp.radius, pb.motion), p,
+                          sp.radius, pb.motion, root);
         if (hit.hit && !hit.started_outside) plane = hit;
       }
       // A new contact, or a second plane for a point violated again after
@@ -424,12 +428,15 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
   *detect_later =
       o.detect_on_first_iterate && pb.surface && hasKeptWallContacts(pb, o.penetration_tolerance);
   // A point beyond the wall where no plane can be found.
-  bool stranded = pb.surface && !*detect_later &&
-                  detectWallCrossings(pb, s->xf, root, field, s->contacts, &s->contact_of);
-  keepWallContacts(pb, root, o.penetration_tolerance, s->contacts, &s->contact_of);
+  bool stranded =
+      pb.surface && !*detect_later &&
+      detectWallCrossings(pb, s->xf, root, field, &s->at_start, s->contacts, &s->contact_of);
+  keepWallContacts(pb, root, o.penetration_tolerance, field, &s->at_start, s->contacts,
+                   &s->contact_of);
   if (*detect_later && s->contacts->empty()) {  // no kept contact found its plane
     *detect_later = false;
-    stranded = detectWallCrossings(pb, s->xf, root, field, s->contacts, &s->contact_of);
+    stranded =
+        detectWallCrossings(pb, s->xf, root, field, &s->at_start, s->contacts, &s->contact_of);
   }
   // Device points closer than the sum of their radii at x_f (element pairs
   // that crossed on the way there held from where they first touched).
@@ -482,15 +489,14 @@ bool redetect(const ContactProblem& pb, const ContactOptions& o, SampleFields* f
 bool checkTunnels(const ContactProblem& pb, const ContactOptions& o, SampleFields* field,
                   LoopState* s, ContactStats* st) {
   const auto& devices = *pb.devices;
-  const auto& start = *pb.start;
   const auto& samples = *pb.samples;
   bool none = true;
   for (size_t d = 0; d < devices.size() && pb.surface; ++d) {
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& sp = samples[d][k];
       if (!takesPart(pb, d, sp)) continue;
-      const Vec3 p0 = samplePosition(devices[d], start[d], sp);
-      const Vec3 p = samplePosition(devices[d], s->x[d], sp);
+      const Vec3& p0 = s->at_start.at(d, k);
+      const Vec3& p = s->at_x.at(d, k);
       if (field->chordInside(d, k, p0, p)) continue;
       const SurfacePoint exit =
           tunnelExit(*pb.surface, p0, field->start(d, k, p0, sp.radius, pb.motion), p,

@@ -51,12 +51,34 @@ LoopState::LoopState(const ContactProblem& pb, std::vector<Contact>* contact_lis
   for (size_t d = 0; d < nd; ++d) dq_free[d] = dq[d] = (*pb.workspaces)[d].dq;
   moveInto(*pb.start, dq_free, &xf);
   x = xf;
+  at_start.reset(pb, pb.start);
+  at_x.reset(pb, &x);
   contact_of.resize(nd);
   for (size_t d = 0; d < nd; ++d) contact_of[d].assign((*pb.samples)[d].size(), -1);
   band.assign(nd, Band::kNone);
   curved.assign(nd, 0);
   last_rows.resize(nd);
   last_W.resize(nd);
+}
+
+void SamplePositions::reset(const ContactProblem& pb, const std::vector<DeviceState>* x) {
+  pb_ = &pb;
+  x_ = x;
+  const size_t nd = pb.samples->size();
+  p_.resize(nd);
+  known_.resize(nd);
+  for (size_t d = 0; d < nd; ++d) {
+    p_[d].resize((*pb.samples)[d].size());
+    known_[d].assign((*pb.samples)[d].size(), 0);
+  }
+}
+
+const Vec3& SamplePositions::at(int d, int k) {
+  if (!known_[d][k]) {
+    p_[d][k] = samplePosition((*pb_->devices)[d], (*x_)[d], (*pb_->samples)[d][k]);
+    known_[d][k] = 1;
+  }
+  return p_[d][k];
 }
 
 namespace {
@@ -151,7 +173,8 @@ bool loopSolved(const ContactProblem& pb, const ContactOptions& o, int loop, boo
   const int fresh_from = static_cast<int>(contacts->size());
   bool solved = true;
   if (loop == 1 && detect_later) {
-    detectWallCrossings(pb, s->x, o.root, field, contacts, &s->contact_of);  // (stranded: below)
+    detectWallCrossings(pb, s->x, o.root, field, &s->at_start, contacts,
+                        &s->contact_of);  // (stranded: below)
     s->updated.resize(contacts->size(), 0);
     solved = static_cast<int>(contacts->size()) == fresh_from;
   }

@@ -78,12 +78,16 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
     DeviceWorkspace& w = ws[d];
     const int n = w.factor.size();
     if ((*C)[d].empty() || n == 0) continue;
-    // A + C over the free nodes (the factor starts at the first; the held
-    // blocks are never read): storage kept across loops and steps.
+    // A + C from its first block that C changes (block m: before it, A + C
+    // is A, and its factor is A's: copied, not eliminated again; on a wire
+    // touching the wall near its tip only, most of the chain); the blocks
+    // before m - 1 are never read. Storage kept across loops and steps.
     ChainMatrix& Ac = w.curved_system;
     const int blocks = w.system.numBlocks(), first = w.first_free_node;
+    int m = blocks;
+    for (const int e : (*C)[d].element) m = std::min(m, e >= first ? e : e + 1);
     Ac.resize(blocks);
-    for (int i = first; i < blocks; ++i) {
+    for (int i = std::max(first, m - 1); i < blocks; ++i) {
       Ac.diag[i] = w.system.diag[i];
       if (i + 1 < blocks) Ac.upper[i] = w.system.upper[i];
     }
@@ -98,14 +102,14 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
     }
     // (C is positive semi-definite, so this should not fail; if it does, A.)
     if (rows[d] >= kChainDelassusMinRows) {
-      const bool ok = w.inverse.compute(Ac, w.first_free_node);
+      const bool ok = w.inverse.compute(Ac, first, &w.factor, m - first);
       (*band)[d] = ok ? Band::kOfCurved : Band::kNone;
       if (ok) {
         (*curved)[d] = 1;
         continue;
       }
     }
-    (*curved)[d] = w.curved.factorize(Ac, w.first_free_node) ? 1 : 0;
+    (*curved)[d] = w.curved.factorize(Ac, first, &w.factor, m - first) ? 1 : 0;
   }
 }
 
@@ -407,6 +411,7 @@ void correctMotion(const ContactProblem& pb, const ContactOptions& o, const Loop
     }
   }
   moveInto(*pb.start, s->dq, &s->x);
+  s->at_x.reset(pb, &s->x);
   for (int i = 0; i < sys.c; ++i) {
     Contact& ct = (*s->contacts)[i];
     ct.force = lambda(dim * i);

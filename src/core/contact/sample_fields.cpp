@@ -48,6 +48,19 @@ void SampleFields::recentre(int d, int k, const Vec3& c, const FieldSample& at, 
   }
 }
 
+bool SampleFields::ballContains(int d, int k, const Vec3& p) {
+  if (motion_ && !now_known_[d][k]) {
+    // The kept ball followed to this snapshot is no larger than as
+    // certified, and its centre moved by at most kBallSlack (else none):
+    // a point farther than both from the centre is outside it, known
+    // without following (or the sensitivity that following needs).
+    const InteriorBall& kept = (*balls_)[d][k];
+    const double beyond = kept.radius + kBallSlack + 1e-9;
+    if (!(kept.radius > 0.0) || (p - kept.center).squaredNorm() >= beyond * beyond) return false;
+  }
+  return ball(d, k).contains(p);
+}
+
 Ball SampleFields::ball(int d, int k) {
   if (!motion_) return Ball{(*balls_)[d][k].center, (*balls_)[d][k].radius};
   if (!now_known_[d][k]) {
@@ -59,12 +72,9 @@ Ball SampleFields::ball(int d, int k) {
 
 bool SampleFields::startInside(int d, int k, const Vec3& p0, const Vec3& p1, double radius,
                                const MotionSnapshot& motion) {
-  if (balls_) {
-    const Ball b = ball(d, k);
-    if (b.contains(p0) && b.contains(p1)) {
-      start_ball_[d][k] = b;
-      return true;
-    }
+  if (balls_ && ballContains(d, k, p0) && ballContains(d, k, p1)) {
+    start_ball_[d][k] = ball(d, k);
+    return true;
   }
   const FieldSample& g0 = start(d, k, p0, radius, motion);
   if (!balls_) return false;
@@ -77,7 +87,7 @@ bool SampleFields::endWithinTolerance(int d, int k, const Vec3& p, double radius
                                       const MotionSnapshot& motion, double tolerance,
                                       double* depth_bound) {
   *depth_bound = 0.0;
-  if (balls_ && ball(d, k).contains(p)) return true;
+  if (balls_ && ballContains(d, k, p)) return true;
   const bool have_end = end_known_[d][k] != 0;
   if (have_end || start_known_[d][k]) {  // the field at the point's last place this step
     const FieldSample& last = have_end ? end_[d][k] : start_[d][k];
@@ -102,9 +112,7 @@ bool SampleFields::endWithinTolerance(int d, int k, const Vec3& p, double radius
 
 bool SampleFields::chordInside(int d, int k, const Vec3& p0, const Vec3& p) {
   if (start_ball_[d][k].contains(p)) return true;  // it holds p0 whenever it exists
-  if (!balls_) return false;
-  const Ball b = ball(d, k);
-  return b.contains(p0) && b.contains(p);
+  return balls_ && ballContains(d, k, p0) && ballContains(d, k, p);
 }
 
 const FieldSample& SampleFields::start(int d, int k, const Vec3& p0, double radius,

@@ -54,6 +54,9 @@ class SampleFields {
   void recentre(int d, int k, const Vec3& c, const FieldSample& at, double radius);
   /// (d, k)'s ball at this step's snapshot (its kept ball followed there).
   Ball ball(int d, int k);
+  /// ball(d, k).contains(p), without following the ball where p is too far
+  /// from it to be contained however it follows.
+  bool ballContains(int d, int k, const Vec3& p);
 
   const ImplicitSurface* surface_;
   std::vector<std::vector<InteriorBall>>* balls_;  // as certified

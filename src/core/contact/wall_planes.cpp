@@ -17,7 +17,7 @@ bool justInside(const ImplicitSurface& surface, double radius, const MotionSnaps
                 const RootOptions& root, Vec3* p, FieldSample* g) {
   if (g->value >= 0.0) return true;
   constexpr double kJustInside = 1e-7;  // [m], well within the 1 um contact tolerance
-  const SurfacePoint wall = projectToSurface(surface, *p, radius, motion, 0.01, root);
+  const SurfacePoint wall = projectToSurfaceFrom(surface, *p, *g, radius, motion, 0.01, root);
   if (!wall.hit) return false;
   *p = wall.point + kJustInside * wall.normal;
   *g = surface.evaluate(*p, radius, motion);

@@ -8,14 +8,18 @@
 namespace evsim {
 namespace {
 
-SurfacePoint surfaceAt(const ImplicitSurface& field, const Vec3& p, double r,
-                       const MotionSnapshot& m) {
+/// A hit at p, where the field's gradient is g.
+SurfacePoint hitAt(const Vec3& p, const Vec3& g) {
   SurfacePoint out;
   out.hit = true;
   out.point = p;
-  const Vec3 g = field.evaluate(p, r, m).gradient;
   out.normal = g.norm() > 0.0 ? Vec3(g.normalized()) : Vec3::Zero();
   return out;
+}
+
+SurfacePoint surfaceAt(const ImplicitSurface& field, const Vec3& p, double r,
+                       const MotionSnapshot& m) {
+  return hitAt(p, field.evaluate(p, r, m).gradient);
 }
 
 /// The first point of the other sign of the zero of g bracketed on p0 + s d
@@ -24,14 +28,17 @@ SurfacePoint surfaceAt(const ImplicitSurface& field, const Vec3& p, double r,
 /// retained end has its value halved, so both ends close in), each trial
 /// kept a quarter width inside the bracket so that the bracket shrinks by
 /// at least that much. About 6-10 evaluations where bisection took 30.
+/// *at_hi: the field at hi on entry, and at the returned end on return
+/// (whose gradient is the hit's normal: no evaluation more).
 double bracketedZero(const ImplicitSurface& field, const Vec3& p0, const Vec3& d, double r,
                      const MotionSnapshot& m, double sigma, double lo, double g_lo, double hi,
-                     double g_hi, double width) {
+                     double g_hi, double width, FieldSample* at_hi) {
   int replaced = 0;  // the end the last trial replaced: -1 lo, +1 hi
   while (hi - lo > width) {
     double mid = g_lo - g_hi > 0.0 ? lo + (hi - lo) * g_lo / (g_lo - g_hi) : 0.5 * (lo + hi);
     mid = std::clamp(mid, lo + 0.25 * width, hi - 0.25 * width);
-    const double v = sigma * field.evaluate(p0 + mid * d, r, m).value;
+    const FieldSample f = field.evaluate(p0 + mid * d, r, m);
+    const double v = sigma * f.value;
 
     if (v >= 0.0) {
       lo = mid;
@@ -41,6 +48,7 @@ double bracketedZero(const ImplicitSurface& field, const Vec3& p0, const Vec3& d
     } else {
       hi = mid;
       g_hi = v;
+      *at_hi = f;
       if (replaced > 0) g_lo *= 0.5;  // lo kept twice in a row
       replaced = 1;
     }
@@ -81,6 +89,7 @@ SurfacePoint firstSignChange(const ImplicitSurface& field, const Vec3& p0, const
   }
   double s = 0.0, s_same = 0.0, s_other = -1.0;  // last same-sign point, first other-sign after it
   double g_same = std::max(sigma * at.value, 0.0), g_other = 0.0;  // sigma g there
+  FieldSample at_other;                                            // the field at s_other
   for (int it = 1; it <= options.max_iterations; ++it) {
     const double g = std::max(sigma * at.value + eps, 0.0);
     const double gp = sigma * at.gradient.dot(d);
@@ -102,11 +111,12 @@ SurfacePoint firstSignChange(const ImplicitSurface& field, const Vec3& p0, const
     } else if (s_other < 0.0) {
       s_other = next;
       g_other = v;
+      at_other = nf;
     }
     if (v < -eps) {
-      const double hi =
-          bracketedZero(field, p0, d, r, m, sigma, s_same, g_same, s_other, g_other, 0.5 * tol_s);
-      SurfacePoint out = surfaceAt(field, p0 + hi * d, r, m);
+      const double hi = bracketedZero(field, p0, d, r, m, sigma, s_same, g_same, s_other, g_other,
+                                      0.5 * tol_s, &at_other);
+      SurfacePoint out = hitAt(p0 + hi * d, at_other.gradient);
       out.s = hi;
       out.iterations = it;
       return out;
@@ -157,7 +167,14 @@ SurfacePoint firstRootBetween(const ImplicitSurface& field, const Vec3& p0, cons
 SurfacePoint projectToSurface(const ImplicitSurface& field, const Vec3& x, double device_radius,
                               const MotionSnapshot& motion, double max_distance,
                               const RootOptions& options) {
-  const FieldSample at = field.evaluate(x, device_radius, motion);
+  return projectToSurfaceFrom(field, x, field.evaluate(x, device_radius, motion), device_radius,
+                              motion, max_distance, options);
+}
+
+SurfacePoint projectToSurfaceFrom(const ImplicitSurface& field, const Vec3& x,
+                                  const FieldSample& at, double device_radius,
+                                  const MotionSnapshot& motion, double max_distance,
+                                  const RootOptions& options) {
   if (at.gradient.norm() == 0.0) return SurfacePoint{};
   // grad f points into the lumen: outward from inside, inward from outside.
   const Vec3 n = at.gradient.normalized();

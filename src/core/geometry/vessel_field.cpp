@@ -182,10 +182,14 @@ bool VesselField::motionSensitivity(const Vec3& c, double half_width, double dev
     long field{-1};
     std::vector<std::pair<double, std::unordered_map<long, Entry>>> per_radius;
     std::vector<int> ids;
+    std::vector<unsigned> seen;  // per primitive: the miss that listed it last
+    unsigned miss{0};
   } cache;
   if (cache.field != serial_) {
     cache.field = serial_;
     cache.per_radius.clear();
+    cache.seen.assign(segments_.size() + spheres_.size(), 0);
+    cache.miss = 0;
   }
   std::unordered_map<long, Entry>* cells = nullptr;
   for (auto& r : cache.per_radius)
@@ -211,17 +215,26 @@ bool VesselField::motionSensitivity(const Vec3& c, double half_width, double dev
           std::clamp(static_cast<int>(std::floor((hi[k] + half_width - bounds_.min()[k]) / cell_)),
                      0, dims_[k] - 1);
     }
+    // Each primitive once (a box of 4^3 cells lists a few hundred items for
+    // a dozen primitives): marked with this miss's number, and only those sorted.
+    if (++cache.miss == 0) {
+      std::fill(cache.seen.begin(), cache.seen.end(), 0u);
+      cache.miss = 1;
+    }
     std::vector<int>& ids = cache.ids;
     ids.clear();
     for (int z = from[2]; z <= to[2]; ++z)
       for (int y = from[1]; y <= to[1]; ++y)
         for (int x = from[0]; x <= to[0]; ++x) {
           const long n = cellIndex(x, y, z);
-          ids.insert(ids.end(), cell_items_.begin() + cell_start_[n],
-                     cell_items_.begin() + cell_start_[n + 1]);
+          for (int k = cell_start_[n]; k < cell_start_[n + 1]; ++k) {
+            const int id = cell_items_[k];
+            if (cache.seen[id] == cache.miss) continue;
+            cache.seen[id] = cache.miss;
+            ids.push_back(id);
+          }
         }
-    std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    std::sort(ids.begin(), ids.end());    // (the sums in the primitives' order)
     auto farthest = [&](const Vec3& p) {  // from p to the cell's farthest point
       return (p - lo).cwiseAbs().cwiseMax((p - hi).cwiseAbs()).norm();
     };

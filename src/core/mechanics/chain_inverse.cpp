@@ -4,8 +4,9 @@
 
 namespace evsim {
 
-bool ChainInverse::compute(const ChainMatrix& A, int first) {
-  if (!factor_.factorize(A, first)) return false;
+bool ChainInverse::compute(const ChainMatrix& A, int first, const ChainFactor* same,
+                           int same_blocks) {
+  if (!factor_.factorize(A, first, same, same_blocks)) return false;
   computeBand();
   return true;
 }
