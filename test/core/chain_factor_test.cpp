@@ -28,6 +28,14 @@ TEST(ChainFactor, SolvesLikeADenseCholeskyAndLikeCholmod) {
     VecX x = B.col(2);
     f.solveInPlace(&x);
     EXPECT_LT((x - reference.col(2)).norm(), 1e-12 * reference.col(2).norm()) << first;
+    // Right-hand sides zero on their first blocks: solved from the first
+    // nonzero one, the same numbers.
+    MatX Z = B;
+    Z.topRows(6 * 20).setZero();
+    MatX from_zero, from_first = Z;
+    f.solve(Z, &from_zero);
+    f.solveInPlace(&from_first, 20);
+    EXPECT_EQ(from_first, from_zero) << first;
     SparseCholesky chol;
     ASSERT_TRUE(test::factorChain(A, first, &chol));
     MatX Y;

@@ -48,6 +48,11 @@ void delassusOperator(Factor& factor, const std::vector<ContactRow>& rows, MatX*
   factor.solve(transposedRows(factor.size(), rows), Y);
   rowsTimes(rows, *Y, W);
 }
+/// The chain factor's: H^T formed in Y and solved in place, its forward
+/// pass from the first block a row reaches (the same numbers, without the
+/// copy of H^T and the zeros below the rows).
+void delassusOperator(const ChainFactor& factor, const std::vector<ContactRow>& rows, MatX* Y,
+                      MatX* W);
 
 /// W = H A^-1 H^T (c x c) from the selected inverse of A over the free
 /// nodes.

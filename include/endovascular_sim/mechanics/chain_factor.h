@@ -40,6 +40,9 @@ class ChainFactor {
   void solveInPlace(VecX* b) const;
   /// X = A^-1 B for a block of right-hand sides (size() x k).
   void solve(const MatX& B, MatX* X) const;
+  /// X <- A^-1 X (size() x k), whose blocks before first_nonzero are zero
+  /// (the forward pass starts there).
+  void solveInPlace(MatX* X, int first_nonzero = 0) const;
 
  private:
   std::vector<Mat6> transfer_;  // -L_{i+1}^T

@@ -18,14 +18,17 @@ void elementAt(const DeviceModel& model, double s, int* element, double* xi) {
   *xi = std::clamp((s - model.node_s[*element]) / model.elements[*element].length, 0.0, 1.0);
 }
 
-/// Closest point of one element's axis to y: Newton (closestAxisParameter)
-/// from the chord's projection.
+/// Closest point of one element's axis to y: Newton (closestParameter)
+/// from the chord's projection. Returns its parameter; *at the axis point
+/// there, *distance its distance to y [m].
 double closestOnElement(const DeviceModel& model, const DeviceState& x, int e, const Vec3& y,
-                        double* distance) {
+                        double* distance, AxisPoint* at) {
   const Vec3 chord = x.position[e + 1] - x.position[e];
-  const double xi = closestAxisParameter(
-      model, x, e, y, std::clamp(chord.dot(y - x.position[e]) / chord.squaredNorm(), 0.0, 1.0));
-  *distance = (axisPoint(model, x, e, xi).position - y).norm();
+  const HermiteAxis axis = HermiteAxis::of(model, x, e);  // (its tangents: once)
+  const double xi = axis.closestParameter(
+      y, std::clamp(chord.dot(y - x.position[e]) / chord.squaredNorm(), 0.0, 1.0));
+  *at = axis.at(xi);
+  *distance = (at->position - y).norm();
   return xi;
 }
 
@@ -66,27 +69,30 @@ LumenLocation locateInLumen(const DeviceModel& inner, const DeviceState& x_inner
   // (l bounded by 1.1 rest lengths). The choice is the same as searching
   // all five (ties to the lowest e).
   double d0;
-  const double xi0_closest = closestOnElement(outer, x_outer, e0, p, &d0);
+  AxisPoint c0;  // the guessed element's closest axis point
+  const double xi0_closest = closestOnElement(outer, x_outer, e0, p, &d0, &c0);
+  AxisPoint c = c0;  // the closest of all
   double best = INFINITY;
   for (int e = std::max(0, e0 - 2); e <= std::min(ne - 1, e0 + 2); ++e) {
     double d = d0, xi = xi0_closest;
+    AxisPoint at = c0;
     if (e != e0) {
       const double bound =
           0.5 * ((p - x_outer.position[e]).norm() + (p - x_outer.position[e + 1]).norm() -
                  1.1 * outer.elements[e].length);
       if (bound > std::min(best, d0)) continue;
-      xi = closestOnElement(outer, x_outer, e, p, &d);
+      xi = closestOnElement(outer, x_outer, e, p, &d, &at);
     }
     if (d < best) {
       best = d;
       loc.axis.element = e;
       loc.axis.xi = xi;
+      c = at;
     }
   }
   const int section = outer.element_section[loc.axis.element];
   loc.axis.radius = outer.section_lumen_radius[section];
   loc.axis.friction = outer.section_lumen_friction[section];
-  const AxisPoint c = axisPoint(outer, x_outer, loc.axis.element, loc.axis.xi);
   loc.center = c.position;
   loc.tangent = c.first.normalized();
   const Vec3 d = p - loc.center;

@@ -6,16 +6,37 @@
 
 namespace evsim {
 
-MatX transposedRows(int n, const std::vector<ContactRow>& rows) {
+namespace {
+
+/// H^T into *Ht (n x c); returns the first DOF a row reaches (n: none).
+int fillTransposedRows(int n, const std::vector<ContactRow>& rows, MatX* Ht) {
   const int c = static_cast<int>(rows.size());
-  MatX Ht = MatX::Zero(n, c);
+  Ht->setZero(n, c);
+  int first = n;
   for (int j = 0; j < c; ++j)
     for (int part = 0; part < rows[j].parts; ++part)
       for (int k = 0; k < 12; ++k) {
         const int dof = rows[j].offset[part] + k;
-        if (dof >= 0 && dof < n) Ht(dof, j) += rows[j].h[part](k);
+        if (dof < 0 || dof >= n) continue;
+        (*Ht)(dof, j) += rows[j].h[part](k);
+        first = std::min(first, dof);
       }
+  return first;
+}
+
+}  // namespace
+
+MatX transposedRows(int n, const std::vector<ContactRow>& rows) {
+  MatX Ht;
+  fillTransposedRows(n, rows, &Ht);
   return Ht;
+}
+
+void delassusOperator(const ChainFactor& factor, const std::vector<ContactRow>& rows, MatX* Y,
+                      MatX* W) {
+  const int first = fillTransposedRows(factor.size(), rows, Y);
+  factor.solveInPlace(Y, first / 6);
+  rowsTimes(rows, *Y, W);
 }
 
 void rowsTimes(const std::vector<ContactRow>& rows, const MatX& Y, MatX* W) {

@@ -184,25 +184,37 @@ bool VesselField::motionSensitivity(const Vec3& c, double half_width, double dev
     std::vector<int> ids;
     std::vector<unsigned> seen;  // per primitive: the miss that listed it last
     unsigned miss{0};
+    // The last entry asked for (the balls along a device come in order,
+    // often several to an eighth of a cell): no hash lookup for them.
+    long last_cell{-1};
+    double last_radius{-1.0};
+    Entry* last{nullptr};  // (a map's entries stay where they are)
   } cache;
   if (cache.field != serial_) {
     cache.field = serial_;
     cache.per_radius.clear();
     cache.seen.assign(segments_.size() + spheres_.size(), 0);
     cache.miss = 0;
+    cache.last = nullptr;
   }
-  std::unordered_map<long, Entry>* cells = nullptr;
-  for (auto& r : cache.per_radius)
-    if (r.first == device_radius) cells = &r.second;
-  if (!cells)
-    cells = &cache.per_radius.emplace_back(device_radius, std::unordered_map<long, Entry>{}).second;
   // Per eighth of a grid cell: d from its farthest corner.
   const double part = 0.5 * cell_;
   int sub[3];
   for (int k = 0; k < 3; ++k)
     sub[k] = std::clamp(static_cast<int>((c[k] - bounds_.min()[k]) / part), 0, 2 * dims_[k] - 1);
   const long cell = (static_cast<long>(sub[2]) * 2 * dims_[1] + sub[1]) * 2 * dims_[0] + sub[0];
-  Entry& e = (*cells)[cell];
+  if (!cache.last || cache.last_cell != cell || cache.last_radius != device_radius) {
+    std::unordered_map<long, Entry>* cells = nullptr;
+    for (auto& r : cache.per_radius)
+      if (r.first == device_radius) cells = &r.second;
+    if (!cells)
+      cells =
+          &cache.per_radius.emplace_back(device_radius, std::unordered_map<long, Entry>{}).second;
+    cache.last = &(*cells)[cell];
+    cache.last_cell = cell;
+    cache.last_radius = device_radius;
+  }
+  Entry& e = *cache.last;
   if (e.half_width < half_width) {
     const Vec3 lo = bounds_.min() + part * Vec3(sub[0], sub[1], sub[2]);
     const Vec3 hi = lo + Vec3::Constant(part);

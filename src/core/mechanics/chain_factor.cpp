@@ -93,10 +93,17 @@ void ChainFactor::solveInPlace(VecX* b) const {
 
 void ChainFactor::solve(const MatX& B, MatX* X) const {
   *X = B;
+  solveInPlace(X);
+}
+
+void ChainFactor::solveInPlace(MatX* X, int first_nonzero) const {
   const int n = numBlocks();
-  for (int i = 0; i + 1 < n; ++i)
+  // Below the first nonzero block the forward pass and D^-1 carry zeros:
+  // skipped, the same numbers.
+  for (int i = std::max(first_nonzero, 0); i + 1 < n; ++i)
     X->middleRows<6>(6 * i + 6).noalias() += transfer_[i].transpose() * X->middleRows<6>(6 * i);
-  for (int i = 0; i < n; ++i) X->middleRows<6>(6 * i) = d_inv_[i] * X->middleRows<6>(6 * i);
+  for (int i = std::max(first_nonzero, 0); i < n; ++i)
+    X->middleRows<6>(6 * i) = d_inv_[i] * X->middleRows<6>(6 * i);
   for (int i = n - 2; i >= 0; --i)
     X->middleRows<6>(6 * i).noalias() += transfer_[i] * X->middleRows<6>(6 * i + 6);
 }
