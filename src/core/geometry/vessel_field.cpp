@@ -4,6 +4,7 @@
 #include "endovascular_sim/geometry/vessel_field.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -184,18 +185,22 @@ bool VesselField::motionSensitivity(const Vec3& c, double half_width, double dev
     std::vector<int> ids;
     std::vector<unsigned> seen;  // per primitive: the miss that listed it last
     unsigned miss{0};
-    // The last entry asked for (the balls along a device come in order,
-    // often several to an eighth of a cell): no hash lookup for them.
-    long last_cell{-1};
-    double last_radius{-1.0};
-    Entry* last{nullptr};  // (a map's entries stay where they are)
+    // In front of the maps, the entries asked for lately, direct-mapped by
+    // cell (a device's balls fall in a few hundred cells; a hash lookup in
+    // a map of tens of thousands missed the caches).
+    struct Recent {
+      long cell{-1};
+      double radius{-1.0};
+      Entry* entry{nullptr};  // (a map's entries stay where they are)
+    };
+    std::array<Recent, 1024> recent;
   } cache;
   if (cache.field != serial_) {
     cache.field = serial_;
     cache.per_radius.clear();
     cache.seen.assign(segments_.size() + spheres_.size(), 0);
     cache.miss = 0;
-    cache.last = nullptr;
+    cache.recent.fill({});
   }
   // Per eighth of a grid cell: d from its farthest corner.
   const double part = 0.5 * cell_;
@@ -203,18 +208,17 @@ bool VesselField::motionSensitivity(const Vec3& c, double half_width, double dev
   for (int k = 0; k < 3; ++k)
     sub[k] = std::clamp(static_cast<int>((c[k] - bounds_.min()[k]) / part), 0, 2 * dims_[k] - 1);
   const long cell = (static_cast<long>(sub[2]) * 2 * dims_[1] + sub[1]) * 2 * dims_[0] + sub[0];
-  if (!cache.last || cache.last_cell != cell || cache.last_radius != device_radius) {
+  auto& recent = cache.recent[static_cast<size_t>(cell) % cache.recent.size()];
+  if (!recent.entry || recent.cell != cell || recent.radius != device_radius) {
     std::unordered_map<long, Entry>* cells = nullptr;
     for (auto& r : cache.per_radius)
       if (r.first == device_radius) cells = &r.second;
     if (!cells)
       cells =
           &cache.per_radius.emplace_back(device_radius, std::unordered_map<long, Entry>{}).second;
-    cache.last = &(*cells)[cell];
-    cache.last_cell = cell;
-    cache.last_radius = device_radius;
+    recent = {cell, device_radius, &(*cells)[cell]};
   }
-  Entry& e = *cache.last;
+  Entry& e = *recent.entry;
   if (e.half_width < half_width) {
     const Vec3 lo = bounds_.min() + part * Vec3(sub[0], sub[1], sub[2]);
     const Vec3 hi = lo + Vec3::Constant(part);
@@ -235,14 +239,16 @@ bool VesselField::motionSensitivity(const Vec3& c, double half_width, double dev
     }
     std::vector<int>& ids = cache.ids;
     ids.clear();
+    unsigned* const seen = cache.seen.data();
+    const unsigned miss = cache.miss;
     for (int z = from[2]; z <= to[2]; ++z)
       for (int y = from[1]; y <= to[1]; ++y)
         for (int x = from[0]; x <= to[0]; ++x) {
           const long n = cellIndex(x, y, z);
           for (int k = cell_start_[n]; k < cell_start_[n + 1]; ++k) {
             const int id = cell_items_[k];
-            if (cache.seen[id] == cache.miss) continue;
-            cache.seen[id] = cache.miss;
+            if (seen[id] == miss) continue;
+            seen[id] = miss;
             ids.push_back(id);
           }
         }
