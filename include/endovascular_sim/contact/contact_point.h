@@ -58,11 +58,6 @@ struct HermiteAxis {
   double closestParameter(const Vec3& y, double xi) const;
 };
 
-/// The parameter in [0, 1] of the point of an element's axis closest to y
-/// (HermiteAxis::closestParameter).
-double closestAxisParameter(const DeviceModel& model, const DeviceState& state, int element,
-                            const Vec3& y, double xi);
-
 /// Row of H for a contact of normal n at a sample point.
 Row12 contactRow(const DeviceModel& model, const DeviceState& state, const SamplePoint& s,
                  const Vec3& n);

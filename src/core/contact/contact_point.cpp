@@ -111,11 +111,6 @@ double HermiteAxis::closestParameter(const Vec3& y, double xi) const {
   return xi;
 }
 
-double closestAxisParameter(const DeviceModel& model, const DeviceState& state, int element,
-                            const Vec3& y, double xi) {
-  return HermiteAxis::of(model, state, element).closestParameter(y, xi);
-}
-
 Row12 contactRow(const DeviceModel& model, const DeviceState& state, const SamplePoint& s,
                  const Vec3& n) {
   const Hermite h(s.xi);
