@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "endovascular_sim/sim/simulation.h"
 #include "lumen_check.h"
@@ -198,6 +199,46 @@ TEST(Coaxial, ColumnsOnDemandFollowTheWholeOperatorsRun) {
       "%ld loops on demand\n",
       (tips[0][0] - tips[1][0]).norm(), (tips[0][1] - tips[1][1]).norm(),
       static_cast<double>(rows[0]) / kSteps, on_demand_loops[0]);
+}
+
+// The cheap certificate (surelyWithinLumen) against the full search
+// (locateInLumen): a point it certifies is never beyond the lumen by more
+// than the allowance, whatever the wire's offset; and it spares the search
+// for most of the points well inside.
+TEST(Coaxial, CertifiedPointsLieWithinTheLumenByTheFullSearch) {
+  const SceneModel m = catheterWithWire(1.0, 0.085, 0.178e-3, 1e-3);
+  SimData d = makeData(m);
+  settle(m, &d, 200);  // the catheter's tip bent, the wire in it
+  if (HasFatalFailure()) return;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> offset(-0.45e-3, 0.45e-3);
+  int certified = 0, well_inside = 0, checked = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    DeviceState wire = d.devices[1];  // the whole wire shifted across the lumen
+    const Vec3 shift(offset(rng), offset(rng), offset(rng));
+    for (Vec3& x : wire.position) x += shift;
+    for (const double allowance : {0.0, 1e-6, 5e-6}) {
+      OuterAxisCache cache;
+      for (const SamplePoint& s : m.samples[1]) {
+        const LumenLocation loc =
+            locateInLumen(m.devices[1], wire, s, m.devices[0], d.devices[0]);
+        const bool sure = surelyWithinLumen(m.devices[1], wire, s, m.devices[0], d.devices[0],
+                                            allowance, &cache);
+        ++checked;
+        if (!loc.inside) {
+          EXPECT_TRUE(sure);  // outside the overlap: no lumen holds it
+          continue;
+        }
+        if (sure) {
+          ++certified;
+          EXPECT_LE(loc.excess(), allowance) << "trial " << trial << " element " << s.element;
+        }
+        well_inside += loc.excess() < -0.05e-3;
+      }
+    }
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_GT(certified, well_inside / 2) << "of " << well_inside << " points 50 um inside";
 }
 
 TEST(Coaxial, InnerDevicePlacedOnTheOuterAxisAndFreeBeyondItsTip) {

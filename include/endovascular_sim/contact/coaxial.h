@@ -62,6 +62,25 @@ LumenLocation locateInLumen(const DeviceModel& inner, const DeviceState& x_inner
                             const SamplePoint& s, const DeviceModel& outer,
                             const DeviceState& x_outer);
 
+/// The outer element's axis the last call of surelyWithinLumen used (the
+/// next point of the inner device mostly lies along the same element).
+/// Valid for one configuration of the outer device.
+struct OuterAxisCache {
+  int element{-1};
+  HermiteAxis axis{};
+  double lumen_radius{0.0};  // [m] the narrowest lumen within two elements of it
+};
+
+/// True when the inner sample point (in x_inner) is certainly not more than
+/// `allowance` [m] beyond its outer device's lumen (in x_outer): outside the
+/// overlap, or within r_lumen - r + allowance of one point of the guessed
+/// outer element's axis (the distance across the axis at the closest point
+/// is no longer). False: not known; locateInLumen tells. It saves the
+/// closest-point search for the points that lie well inside.
+bool surelyWithinLumen(const DeviceModel& inner, const DeviceState& x_inner, const SamplePoint& s,
+                       const DeviceModel& outer, const DeviceState& x_outer, double allowance,
+                       OuterAxisCache* cache);
+
 /// An inner device at rest in its outer device: held nodes in the sheath,
 /// inserted nodes on the outer device's axis where they overlap, and beyond
 /// the outer tip the inner device's rest shape continuing from it.

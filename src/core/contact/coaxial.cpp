@@ -103,6 +103,34 @@ LumenLocation locateInLumen(const DeviceModel& inner, const DeviceState& x_inner
   return loc;
 }
 
+bool surelyWithinLumen(const DeviceModel& inner, const DeviceState& x_inner, const SamplePoint& s,
+                       const DeviceModel& outer, const DeviceState& x_outer, double allowance,
+                       OuterAxisCache* cache) {
+  const double a = pathLength(inner, x_inner, materialCoordinate(inner, s));
+  if (a <= 0.0 || a >= x_outer.inserted_length) return true;  // no lumen holds it
+  int e;
+  double xi;
+  elementAt(outer, a + outer.length - x_outer.inserted_length, &e, &xi);
+  if (cache->element != e) {
+    cache->element = e;
+    cache->axis = HermiteAxis::of(outer, x_outer, e);
+    // The closest point may lie on the two elements either side (another
+    // section): the narrowest of their lumens.
+    cache->lumen_radius = INFINITY;
+    for (int f = std::max(0, e - 2); f <= std::min(outer.num_nodes - 2, e + 2); ++f)
+      cache->lumen_radius =
+          std::min(cache->lumen_radius, outer.section_lumen_radius[outer.element_section[f]]);
+  }
+  // The point of element e's axis where closestOnElement's search starts:
+  // the closest point of the elements searched is no farther, and |across|
+  // there is no longer than its distance.
+  const Vec3 p = samplePosition(inner, x_inner, s);
+  const Vec3 chord = x_outer.position[e + 1] - x_outer.position[e];
+  xi = std::clamp(chord.dot(p - x_outer.position[e]) / chord.squaredNorm(), 0.0, 1.0);
+  const double reach = cache->lumen_radius - s.radius + allowance;
+  return reach > 0.0 && (p - cache->axis.at(xi).position).squaredNorm() <= reach * reach;
+}
+
 DeviceState placeInside(const DeviceModel& inner, const Introducer& intro, double inserted_length,
                         double rotation_angle, const DeviceModel& outer,
                         const DeviceState& x_outer) {

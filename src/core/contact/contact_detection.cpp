@@ -135,9 +135,12 @@ std::vector<LumenViolation> lumenViolations(const ContactProblem& pb,
     if (outer < 0) continue;
     int element = -1;
     size_t first_of_element = 0;  // the element's first entry in out
+    OuterAxisCache outer_axis;
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& s = samples[d][k];
       if (!takesPart(pb, d, s) || detached(x[d], s)) continue;
+      if (surelyWithinLumen(devices[d], x[d], s, devices[outer], x[outer], tolerance, &outer_axis))
+        continue;
       const LumenLocation loc = locateInLumen(devices[d], x[d], s, devices[outer], x[outer]);
       if (!loc.inside || loc.excess() <= tolerance) continue;
       const LumenViolation v{static_cast<int>(d), static_cast<int>(k), loc};
