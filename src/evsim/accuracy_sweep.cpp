@@ -139,13 +139,20 @@ std::vector<Setting> sceneSettings(const SceneSpec& base) {
     s.push_back({"curvature_loops", std::to_string(loops),
                  contact([loops](ContactOptions* o) { o->curvature_loops = loops; })});
   const auto& fx = base.effects;  // the lumen's curvature springs: how settled the loop ends
-  if (std::find(fx.begin(), fx.end(), "coaxial") != fx.end())
+  if (std::find(fx.begin(), fx.end(), "coaxial") != fx.end()) {
+    for (double tol : {1e-6, 2e-5}) {  // how far beyond the lumen a point may end
+      std::ostringstream v;
+      v << tol;
+      s.push_back({"lumen_tolerance", v.str(),
+                   contact([tol](ContactOptions* o) { o->lumen_tolerance = tol; })});
+    }
     for (double settle : {1e-3, 0.03, 0.3}) {
       std::ostringstream v;
       v << settle;
       s.push_back({"lumen_settle", v.str(),
                    contact([settle](ContactOptions* o) { o->lumen_settle = settle; })});
     }
+  }
   for (int sub : {0, 2, 8})
     s.push_back({"subdivisions", std::to_string(sub),
                  contact([sub](ContactOptions* o) { o->max_subdivisions = sub; })});
@@ -176,6 +183,7 @@ SceneSpec referenceSpec(SceneSpec spec) {
   setElementCount(&spec, 2 * elementCount(spec));
   spec.contact.lcp.solver = LcpSolver::kStatusMethod;
   spec.contact.penetration_tolerance = 1e-8;
+  spec.contact.lumen_tolerance = 1e-8;
   spec.contact.max_activation_loops = 50;
   spec.contact.max_subdivisions = 8;
   spec.contact.root.tolerance = 1e-12;

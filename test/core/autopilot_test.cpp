@@ -60,7 +60,7 @@ void navigate(const SceneModel& model, SimData* data, Autopilot* pilot, double l
     ASSERT_EQ(status, StepStatus::kOk) << data->last_error;
     // Every point of the wire in the catheter's lumen, checked point by
     // point (the loop plans one plane per element and side).
-    ASSERT_LE(test::worstLumenExcess(model, *data), 2.0 * model.contact.penetration_tolerance)
+    ASSERT_LE(test::worstLumenExcess(model, *data), 2.0 * model.contact.lumen_tolerance)
         << "t = " << data->time;
   }
 }

@@ -311,8 +311,9 @@ TEST(Stability, StiffSteelWireInASoftCatheter) {
     if (k == 1500) turn_straightened = turnBetween(m, data, 0, tip - 0.02, tip);
   });
   EXPECT_EQ(o.steps, 2500);
-  EXPECT_GT(o.max_active_contacts, 10);
-  EXPECT_LE(worst_excess, 1e-6 + 1e-12);  // the scene's penetration tolerance
+  EXPECT_GE(o.max_active_contacts, 10);  // the wire held along the tip at many points
+  const double lumen_tolerance = ContactOptions{}.lumen_tolerance;  // the scene's: the default
+  EXPECT_LE(worst_excess, lumen_tolerance + 1e-12);
   // At 1.5 s the wire's stiff shaft fills the whole angled tip (it leads by
   // 30 mm, its floppy 20 mm beyond). The composite turns rest / (1 + 1260) =
   // 0.6 mrad. The clearance c = 79 um lets the catheter's axis wander 2c

@@ -386,9 +386,9 @@ bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFiel
   return solved;
 }
 
-/// Like wall contacts: a point still beyond the lumen has its contact moved
-/// to the tangent plane where it now lies, once; beyond it again, it gets a
-/// second plane (updates alone converge slowly: measured on
+/// Like wall contacts: a point still beyond the lumen (by more than
+/// options.lumen_tolerance) has its contact moved to the tangent plane
+/// where it now lies, once; beyond it again, it gets a second plane (updates alone converge slowly: measured on
 /// carotid_catheter, nearly every step needed halving). Only the deepest
 /// point per inner element and side gets a plane in a pass, as at x_f: a
 /// wire lying along the lumen has every sample of an element a little
@@ -398,7 +398,7 @@ bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFiel
 bool redetectLumen(const ContactProblem& pb, const ContactOptions& o, LoopState* s,
                    double* deepest) {
   bool solved = true;
-  for (const LumenViolation& v : lumenViolations(pb, s->x, o.penetration_tolerance)) {
+  for (const LumenViolation& v : lumenViolations(pb, s->x, o.lumen_tolerance)) {
     solved = false;
     *deepest = std::max(*deepest, v.location.excess());
     const auto it = s->lumen_contact.find({v.device, v.sample});

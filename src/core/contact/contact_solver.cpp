@@ -30,6 +30,8 @@ std::string validateContactOptions(const ContactOptions& o) {
     why << "contact_spacing must lie in [1e-5, 0.05] m";
   else if (!(o.penetration_tolerance >= 1e-9 && o.penetration_tolerance <= 1e-3))
     why << "penetration_tolerance must lie in [1e-9, 1e-3] m";
+  else if (!(o.lumen_tolerance >= 1e-9 && o.lumen_tolerance <= 1e-3))
+    why << "lumen_tolerance must lie in [1e-9, 1e-3] m";
   else if (!(o.lumen_settle >= 1e-4 && o.lumen_settle <= 1.0))
     why << "lumen_settle must lie in [1e-4, 1]";
   else if (!(o.root.tolerance > 0.0 && o.root.tolerance <= 1e-6))

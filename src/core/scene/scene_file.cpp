@@ -151,7 +151,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
          {"solver", "tolerance", "max_iterations", "regularization", "max_activation_loops",
           "max_subdivisions", "contact_spacing", "penetration_tolerance", "root_tolerance",
           "wall_curvature", "curvature_loops", "interior_balls", "detect_on_first_iterate",
-          "columns_on_demand", "lumen_settle", "friction_solver", "friction_tolerance",
+          "columns_on_demand", "lumen_tolerance", "lumen_settle", "friction_solver", "friction_tolerance",
           "friction_max_sweeps", "element_pairs"});
   if (n["solver"]) {
     try {
@@ -188,6 +188,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   o.detect_on_first_iterate = flag("detect_on_first_iterate", o.detect_on_first_iterate);
   o.columns_on_demand = flag("columns_on_demand", o.columns_on_demand);
   o.element_pairs = flag("element_pairs", o.element_pairs);
+  o.lumen_tolerance = r.number(n, "lumen_tolerance", "contact.", o.lumen_tolerance);
   o.lumen_settle = r.number(n, "lumen_settle", "contact.", o.lumen_settle);
   if (n["friction_solver"]) {
     try {

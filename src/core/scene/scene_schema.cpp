@@ -213,6 +213,11 @@ std::vector<SchemaEntry> makeSchema() {
           "effect 'device_contact': pairs between the elements' axes, at their closest points, "
           "with a swept test over each step (false: between sample points; docs/model.md)")
           .def("false"),
+      Key("contact.lumen_tolerance", T::kNumber,
+          "effect coaxial: a point beyond its outer device's lumen by more is violated")
+          .unit("m")
+          .def("5e-6")
+          .in("[]", 1e-9, 1e-3),
       Key("contact.lumen_settle", T::kNumber,
           "effect 'coaxial': the loop goes on while a point held by the lumen's curvature slid "
           "more than this fraction of the clearance")
