@@ -65,8 +65,8 @@ struct ContactOptions {
   bool detect_on_first_iterate{true};  // with kept contacts, detect on x_t -> x_1, not -> x_f
   bool columns_on_demand{true};        // frictionless status method: W's columns formed as it reads
                                        // them, not the whole W (contact/delassus_columns.h)
-  double lumen_tolerance{5e-6};  // effect 'coaxial': a point of an inner device beyond its
-                                 // outer device's lumen by more is violated [m]
+  double lumen_tolerance{5e-6};        // effect 'coaxial': a point of an inner device beyond its
+                                       // outer device's lumen by more is violated [m]
   double lumen_settle{0.1};  // effect 'coaxial': the loop goes on while a point held by the
                              // lumen's curvature slid more than this fraction of the clearance
                              // since the loop's anchor: what that leaves is a force below this
@@ -171,6 +171,10 @@ struct ContactProblem {
   /// evaluation (geometry/interior_ball.h), kept across steps (null: kept
   /// for the step's loops only); on a moving surface it follows the motion.
   std::vector<std::vector<InteriorBall>>* interior{nullptr};
+  /// When set, receives x_t (+) the step's dq, the configuration the loop
+  /// ended at (what commitMotion makes of *start with each workspace's dq,
+  /// to the bit): the caller need not move the devices again.
+  std::vector<DeviceState>* end{nullptr};
 };
 
 /// Two device elements that overlap: sample points of theirs closer than

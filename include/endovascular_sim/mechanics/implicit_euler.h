@@ -54,6 +54,10 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
 /// Applies dq (all nodes) and sets velocities to dq / dt.
 void commitMotion(const VecX& dq, double dt, DeviceState* state);
 
+/// Sets velocities to dq / dt (commitMotion's second half, for a state that
+/// already holds its positions and rotations moved by dq).
+void setStepVelocities(const VecX& dq, double dt, DeviceState* state);
+
 /// Lumped mass block of a node in the world frame (6 x 6).
 Mat6 nodeMass(const DeviceModel& model, const DeviceState& state, int node);
 

@@ -99,6 +99,10 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
 
 void commitMotion(const VecX& dq, double dt, DeviceState* state) {
   applyIncrement(dq, 0, state);
+  setStepVelocities(dq, dt, state);
+}
+
+void setStepVelocities(const VecX& dq, double dt, DeviceState* state) {
   const int n = static_cast<int>(state->position.size());
   for (int i = 0; i < n; ++i) {
     state->velocity[i] = dq.segment<3>(6 * i) / dt;

@@ -119,6 +119,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
   }
   std::vector<Contact> previous;  // the last (sub-)step's contacts: persisting planes
   previous.swap(data->contacts);
+  std::vector<DeviceState> moved;  // x_t (+) dq, where the contact solver ended
   if (model.surface || model.contact.device_contact || model.effects.coaxial) {
     ContactProblem pb;
     pb.previous = &previous;
@@ -128,6 +129,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     pb.samples = &model.samples;
     pb.surface = model.surface.get();
     pb.interior = &data->interior_balls;
+    pb.end = &moved;
     if (model.effects.coaxial) pb.outer_of = &model.outer_of;
     if (model.effects.vessel_motion) {
       const auto t0 = Clock::now();
@@ -153,8 +155,13 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     }
     addResults(cs, &data->stats);
   }
+  const bool already_moved = moved.size() == model.devices.size();
+  if (already_moved) next->swap(moved);  // the same numbers commitMotion would compute
   for (size_t i = 0; i < model.devices.size(); ++i) {
-    commitMotion(data->workspaces[i].dq, dt, &(*next)[i]);
+    if (already_moved)
+      setStepVelocities(data->workspaces[i].dq, dt, &(*next)[i]);
+    else
+      commitMotion(data->workspaces[i].dq, dt, &(*next)[i]);
     for (const Vec3& x : (*next)[i].position)
       if (!x.allFinite()) {
         data->last_error = "device '" + model.devices[i].name + "': a position is not finite";
