@@ -388,13 +388,12 @@ bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFiel
 
 /// Like wall contacts: a point still beyond the lumen (by more than
 /// options.lumen_tolerance) has its contact moved to the tangent plane
-/// where it now lies, once; beyond it again, it gets a second plane (updates alone converge slowly: measured on
-/// carotid_catheter, nearly every step needed halving). Only the deepest
-/// point per inner element and side gets a plane in a pass, as at x_f: a
-/// wire lying along the lumen has every sample of an element a little
-/// beyond, and one plane per element holds it (all of them: 60 % more rows
-/// and 1.4x the step time on arch_to_right_subclavian). Returns false when
-/// a point is beyond; *deepest grows to its excess [m].
+/// where it now lies, once; beyond it again, it gets a second plane (updates alone converge slowly:
+/// measured on carotid_catheter, nearly every step needed halving). Only the deepest point per
+/// inner element and side gets a plane in a pass, as at x_f: a wire lying along the lumen has every
+/// sample of an element a little beyond, and one plane per element holds it (all of them: 60 % more
+/// rows and 1.4x the step time on arch_to_right_subclavian). Returns false when a point is beyond;
+/// *deepest grows to its excess [m].
 bool redetectLumen(const ContactProblem& pb, const ContactOptions& o, LoopState* s,
                    double* deepest) {
   bool solved = true;

@@ -148,11 +148,26 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
 ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   ContactOptions o;
   r.keys(n, "contact",
-         {"solver", "tolerance", "max_iterations", "regularization", "max_activation_loops",
-          "max_subdivisions", "contact_spacing", "penetration_tolerance", "root_tolerance",
-          "wall_curvature", "curvature_loops", "interior_balls", "detect_on_first_iterate",
-          "columns_on_demand", "lumen_tolerance", "lumen_settle", "friction_solver", "friction_tolerance",
-          "friction_max_sweeps", "element_pairs"});
+         {"solver",
+          "tolerance",
+          "max_iterations",
+          "regularization",
+          "max_activation_loops",
+          "max_subdivisions",
+          "contact_spacing",
+          "penetration_tolerance",
+          "lumen_tolerance",
+          "root_tolerance",
+          "wall_curvature",
+          "curvature_loops",
+          "interior_balls",
+          "detect_on_first_iterate",
+          "columns_on_demand",
+          "lumen_settle",
+          "friction_solver",
+          "friction_tolerance",
+          "friction_max_sweeps",
+          "element_pairs"});
   if (n["solver"]) {
     try {
       o.lcp.solver = lcpSolverFromName(r.text(n["solver"], "contact.solver"));

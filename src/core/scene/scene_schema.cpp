@@ -214,7 +214,7 @@ std::vector<SchemaEntry> makeSchema() {
           "with a swept test over each step (false: between sample points; docs/model.md)")
           .def("false"),
       Key("contact.lumen_tolerance", T::kNumber,
-          "effect coaxial: a point beyond its outer device's lumen by more is violated")
+          "effect 'coaxial': a point beyond its outer device's lumen by more is violated")
           .unit("m")
           .def("5e-6")
           .in("[]", 1e-9, 1e-3),
