@@ -18,15 +18,33 @@ void elementAt(const DeviceModel& model, double s, int* element, double* xi) {
   *xi = std::clamp((s - model.node_s[*element]) / model.elements[*element].length, 0.0, 1.0);
 }
 
+/// Parameter of y's projection on element e's chord, in [0, 1]: where the
+/// search for the closest axis point starts.
+double chordParameter(const DeviceState& x, int e, const Vec3& y) {
+  const Vec3 chord = x.position[e + 1] - x.position[e];
+  return std::clamp(chord.dot(y - x.position[e]) / chord.squaredNorm(), 0.0, 1.0);
+}
+
+/// The outer element at the inner point's path length (the same path
+/// length on both devices: a guess, the inner device runs off the axis in
+/// bends). Returns -1 outside the overlap: no lumen holds the point.
+int guessedOuterElement(const DeviceModel& inner, const DeviceState& x_inner, const SamplePoint& s,
+                        const DeviceModel& outer, const DeviceState& x_outer) {
+  const double a = pathLength(inner, x_inner, materialCoordinate(inner, s));
+  if (a <= 0.0 || a >= x_outer.inserted_length) return -1;
+  int e;
+  double xi;
+  elementAt(outer, a + outer.length - x_outer.inserted_length, &e, &xi);
+  return e;
+}
+
 /// Closest point of one element's axis to y: Newton (closestParameter)
 /// from the chord's projection. Returns its parameter; *at the axis point
 /// there, *distance its distance to y [m].
 double closestOnElement(const DeviceModel& model, const DeviceState& x, int e, const Vec3& y,
                         double* distance, AxisPoint* at) {
-  const Vec3 chord = x.position[e + 1] - x.position[e];
   const HermiteAxis axis = HermiteAxis::of(model, x, e);  // (its tangents: once)
-  const double xi = axis.closestParameter(
-      y, std::clamp(chord.dot(y - x.position[e]) / chord.squaredNorm(), 0.0, 1.0));
+  const double xi = axis.closestParameter(y, chordParameter(x, e, y));
   *at = axis.at(xi);
   *distance = (at->position - y).norm();
   return xi;
@@ -53,14 +71,10 @@ LumenLocation locateInLumen(const DeviceModel& inner, const DeviceState& x_inner
                             const SamplePoint& s, const DeviceModel& outer,
                             const DeviceState& x_outer) {
   LumenLocation loc;
-  const double a = pathLength(inner, x_inner, materialCoordinate(inner, s));
-  if (a <= 0.0 || a >= x_outer.inserted_length) return loc;
+  const int e0 = guessedOuterElement(inner, x_inner, s, outer, x_outer);
+  if (e0 < 0) return loc;
   loc.inside = true;
-  int e0;
-  double xi0;
-  elementAt(outer, a + outer.length - x_outer.inserted_length, &e0, &xi0);
-  // The same path length on both devices is a guess (the inner device runs
-  // off the axis in bends): the closest point within two elements of it.
+  // The closest point within two elements of the guess.
   const Vec3 p = samplePosition(inner, x_inner, s);
   const int ne = outer.num_nodes - 1;
   // The guessed element first; another is searched only if it can be
@@ -106,11 +120,8 @@ LumenLocation locateInLumen(const DeviceModel& inner, const DeviceState& x_inner
 bool surelyWithinLumen(const DeviceModel& inner, const DeviceState& x_inner, const SamplePoint& s,
                        const DeviceModel& outer, const DeviceState& x_outer, double allowance,
                        OuterAxisCache* cache) {
-  const double a = pathLength(inner, x_inner, materialCoordinate(inner, s));
-  if (a <= 0.0 || a >= x_outer.inserted_length) return true;  // no lumen holds it
-  int e;
-  double xi;
-  elementAt(outer, a + outer.length - x_outer.inserted_length, &e, &xi);
+  const int e = guessedOuterElement(inner, x_inner, s, outer, x_outer);
+  if (e < 0) return true;  // no lumen holds it
   if (cache->element != e) {
     cache->element = e;
     cache->axis = HermiteAxis::of(outer, x_outer, e);
@@ -125,10 +136,9 @@ bool surelyWithinLumen(const DeviceModel& inner, const DeviceState& x_inner, con
   // the closest point of the elements searched is no farther, and |across|
   // there is no longer than its distance.
   const Vec3 p = samplePosition(inner, x_inner, s);
-  const Vec3 chord = x_outer.position[e + 1] - x_outer.position[e];
-  xi = std::clamp(chord.dot(p - x_outer.position[e]) / chord.squaredNorm(), 0.0, 1.0);
   const double reach = cache->lumen_radius - s.radius + allowance;
-  return reach > 0.0 && (p - cache->axis.at(xi).position).squaredNorm() <= reach * reach;
+  const Vec3 start = cache->axis.at(chordParameter(x_outer, e, p)).position;
+  return reach > 0.0 && (p - start).squaredNorm() <= reach * reach;
 }
 
 DeviceState placeInside(const DeviceModel& inner, const Introducer& intro, double inserted_length,
