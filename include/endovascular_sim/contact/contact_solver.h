@@ -12,6 +12,12 @@
 //             this one too, its plane updated at x_t: a pre-shaped tip held
 //             against the wall springs back out in the free motion, and
 //             without its contact the first loops chase it millimetres away
+//   predict   (options.predict_first_iterate) the first loop detects and
+//             is linearised at x_f + A^-1 H^T f, f the last step's contact
+//             forces at their points at x_t, instead of at x_f: a coil
+//             pressed into an aneurysm springs open by half a millimetre in
+//             its free motion, and turns found touching only at the first
+//             iterate took a loop more; without contacts there, from x_f
 //   pairs     with the effect 'device_contact', device points closer than
 //             the sum of their radii (same device: more than a few radii
 //             apart along it) are pair contacts in the same LCP; between
@@ -63,6 +69,8 @@ struct ContactOptions {
   int curvature_loops{1000};           // loops that update C (then A + C and its band are kept)
   bool interior_balls{true};           // spare evaluations in certified balls (sample_fields.h)
   bool detect_on_first_iterate{true};  // with kept contacts, detect on x_t -> x_1, not -> x_f
+  bool predict_first_iterate{false};   // detect and linearise the first loop at x_f + A^-1 H^T f,
+                                       // f the last step's contact forces, not at x_f
   bool columns_on_demand{true};        // frictionless status method: W's columns formed as it reads
                                        // them, not the whole W (contact/delassus_columns.h)
   double lumen_tolerance{5e-6};        // effect 'coaxial': a point of an inner device beyond its

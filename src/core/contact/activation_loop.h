@@ -159,7 +159,9 @@ int outerOf(const ContactProblem& pb, size_t d);
 // --- detection.cpp ----------------------------------------------------------
 
 /// The paper's detection on [x_t, x_f], the wall contacts kept from the last
-/// step, device pairs and lumen contacts at x_f. *detect_later: the wall's
+/// step, device pairs and lumen contacts at x_f; with a predicted first
+/// iterate (options.predict_first_iterate) all of it at s->x, the
+/// prediction, instead of x_f. *detect_later: the wall's
 /// detection waits for the first loop's iterate (options
 /// detect_on_first_iterate). Returns true when a point beyond the wall has
 /// no plane (stranded: the step cannot be solved).
@@ -194,6 +196,13 @@ void prepareFreeMotion(const ContactProblem& pb, const ContactOptions& o, int lo
 /// H (x_f - x) + W lambda; then W = H A^-1 H^T per device.
 void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopState* s,
                         LoopSystem* sys);
+/// The first loop's iterate predicted from the last step's contact forces
+/// (options.predict_first_iterate): x = x_f + A^-1 H^T f, their forces f
+/// (normal and friction) applied at their points at x_t. Returns false
+/// (x left at x_f) when no contact of the last step carried a force.
+bool predictFirstIterate(const ContactProblem& pb, LoopState* s);
+/// Back to x = x_f with no contacts: the prediction found nothing to hold.
+void restartAtFreeMotion(const ContactProblem& pb, LoopState* s);
 /// x = x_f + A^-1 H^T lambda; the contacts' forces from lambda.
 void correctMotion(const ContactProblem& pb, const ContactOptions& o, const LoopSystem& sys,
                    const VecX& lambda, LoopState* s);

@@ -300,7 +300,7 @@ void detectLumenContacts(const ContactProblem& pb, double touching, LoopState* s
     }
   }
   if (kept) return;
-  for (const LumenViolation& v : lumenViolations(pb, s->xf, 0.0)) addLumen(pb, v, s);
+  for (const LumenViolation& v : lumenViolations(pb, s->x, 0.0)) addLumen(pb, v, s);
 }
 
 /// The plane for a point of device d, sample k, found beyond the wall at p
@@ -432,13 +432,13 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
   // A point beyond the wall where no plane can be found.
   bool stranded =
       pb.surface && !*detect_later &&
-      detectWallCrossings(pb, s->xf, root, field, &s->at_start, s->contacts, &s->contact_of);
+      detectWallCrossings(pb, s->x, root, field, &s->at_start, s->contacts, &s->contact_of);
   keepWallContacts(pb, root, o.penetration_tolerance, field, &s->at_start, s->contacts,
                    &s->contact_of);
   if (*detect_later && s->contacts->empty()) {  // no kept contact found its plane
     *detect_later = false;
     stranded =
-        detectWallCrossings(pb, s->xf, root, field, &s->at_start, s->contacts, &s->contact_of);
+        detectWallCrossings(pb, s->x, root, field, &s->at_start, s->contacts, &s->contact_of);
   }
   // Device points closer than the sum of their radii at x_f (element pairs
   // that crossed on the way there held from where they first touched).
@@ -451,7 +451,7 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
     const auto tp = Clock::now();
     if (o.element_pairs) keepPairs(pb, s);
     const bool passed_through = s->contacts->empty();
-    for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->xf, 0.0, stepStartAxes(pb, o, s),
+    for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, 0.0, stepStartAxes(pb, o, s),
                                           passed_through, &s->pair_candidates))
       if (!s->pair_contact.count(f.key)) addPair(f, s);
     ++st->pair_passes;

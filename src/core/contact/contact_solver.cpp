@@ -218,7 +218,16 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   if (o.interior_balls) balls = pb.interior ? pb.interior : &step_balls;
   fields::SampleFields field(pb.surface, counts, balls, &pb.motion);
   bool detect_later = false;
-  const bool stranded = detectOnFreeMotion(pb, o, &field, &s, &detect_later, st);
+  // The first loop about the last step's forces applied to x_f: a coil
+  // pressed into an aneurysm springs half a millimetre open in its free
+  // motion, and the turns that touch again at the first iterate took a
+  // second loop (options.predict_first_iterate).
+  const bool predicted = o.predict_first_iterate && predictFirstIterate(pb, &s);
+  bool stranded = detectOnFreeMotion(pb, o, &field, &s, &detect_later, st);
+  if (predicted && (contacts->empty() || stranded)) {  // nothing holds it there: from x_f
+    restartAtFreeMotion(pb, &s);
+    stranded = detectOnFreeMotion(pb, o, &field, &s, &detect_later, st);
+  }
   st->detection_ms += msSince(t0);
 
   // --- The activation loop ----------------------------------------------------

@@ -384,6 +384,54 @@ void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopS
   eliminateLumenSprings(sys);
 }
 
+bool predictFirstIterate(const ContactProblem& pb, LoopState* s) {
+  if (!pb.previous || pb.previous->empty()) return false;
+  const auto& devices = *pb.devices;
+  const auto& start = *pb.start;
+  const auto& ws = *pb.workspaces;
+  const int nd = static_cast<int>(devices.size());
+  std::vector<VecX> f(nd);  // H^T f over each device's free DOFs
+  bool any = false;
+  auto add = [&](int d, const SamplePoint& sp, const Vec3& force) {
+    const int n = ws[d].factor.size();
+    if (n == 0 || sp.element < 0 || sp.element + 1 >= static_cast<int>(start[d].position.size()))
+      return;
+    if (f[d].size() == 0) f[d] = VecX::Zero(n);
+    const Row12 h = contactRow(devices[d], start[d], sp, force);
+    const int offset = 6 * (sp.element - ws[d].first_free_node);
+    for (int k = 0; k < 12; ++k)
+      if (offset + k >= 0 && offset + k < n) f[d](offset + k) += h(k);
+    any = true;
+  };
+  for (const Contact& ct : *pb.previous) {
+    if (!(ct.force > 0.0) || ct.device >= nd || ct.other_device >= nd) continue;
+    if (ct.other_device < 0 && ct.sample >= static_cast<int>((*pb.samples)[ct.device].size()))
+      continue;
+    const Vec3 force = ct.force * ct.normal + ct.friction;
+    add(ct.device, contactPointOf(ct, *pb.samples), force);
+    if (ct.other_device >= 0) add(ct.other_device, ct.other, -force);
+  }
+  if (!any) return false;
+  for (int d = 0; d < nd; ++d) {
+    if (f[d].size() == 0) continue;
+    ws[d].factor.solveInPlace(&f[d]);
+    s->dq[d].tail(f[d].size()) += f[d];
+  }
+  moveInto(*pb.start, s->dq, &s->x);
+  s->at_x.reset(pb, &s->x);
+  return true;
+}
+
+void restartAtFreeMotion(const ContactProblem& pb, LoopState* s) {
+  s->dq = s->dq_free;
+  s->x = s->xf;
+  s->at_x.reset(pb, &s->x);
+  s->contacts->clear();
+  for (auto& of : s->contact_of) std::fill(of.begin(), of.end(), -1);
+  s->pair_contact.clear();
+  s->lumen_contact.clear();
+}
+
 void correctMotion(const ContactProblem& pb, const ContactOptions& o, const LoopSystem& sys,
                    const VecX& lambda, LoopState* s) {
   auto& ws = *pb.workspaces;

@@ -162,6 +162,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
           "curvature_loops",
           "interior_balls",
           "detect_on_first_iterate",
+          "predict_first_iterate",
           "columns_on_demand",
           "lumen_settle",
           "friction_solver",
@@ -201,6 +202,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   o.curvature_loops = whole("curvature_loops", o.curvature_loops);
   o.interior_balls = flag("interior_balls", o.interior_balls);
   o.detect_on_first_iterate = flag("detect_on_first_iterate", o.detect_on_first_iterate);
+  o.predict_first_iterate = flag("predict_first_iterate", o.predict_first_iterate);
   o.columns_on_demand = flag("columns_on_demand", o.columns_on_demand);
   o.element_pairs = flag("element_pairs", o.element_pairs);
   o.lumen_tolerance = r.number(n, "lumen_tolerance", "contact.", o.lumen_tolerance);

@@ -206,6 +206,10 @@ std::vector<SchemaEntry> makeSchema() {
           "with wall contacts kept from the last step, detect on the path to the first loop's "
           "iterate (false: on the free motion's)")
           .def("true"),
+      Key("contact.predict_first_iterate", T::kBool,
+          "the first loop detects and linearises at the free motion moved by the last step's "
+          "contact forces, not at the free motion (docs/model.md)")
+          .def("false"),
       Key("contact.columns_on_demand", T::kBool,
           "frictionless status method: W's columns formed as the method reads them")
           .def("true"),
