@@ -61,7 +61,10 @@ struct ContactOptions {
   int max_subdivisions{4};             // recursive halvings of a step (dt / 16)
   double contact_spacing{1e-3};        // sample points along elements [m]
   double penetration_tolerance{1e-6};  // a point beyond the wall by more is violated [m]
-  RootOptions root;                    // first-root search
+  double keep_gap{0.0};  // a wall contact of the last step that ended without force at most this
+                         // far from its plane (and at least penetration_tolerance) starts the
+                         // next step [m]: about the wall's travel in a step where vessels move
+  RootOptions root;      // first-root search
   bool device_contact{false};          // effect 'device_contact': pairs of device points
   bool element_pairs{false};           // device pairs between elements' axes, not sample points
   bool friction{false};                // effect 'friction': Coulomb friction (NSGS)

@@ -419,6 +419,17 @@ bool redetectLumen(const ContactProblem& pb, const ContactOptions& o, LoopState*
 
 }  // namespace
 
+namespace {
+
+/// The largest gap [m] at which a wall contact of the last step without
+/// force starts this one (options.keep_gap): a point that lifted off its
+/// plane by a few micrometres as a moving wall drew back crosses the wall
+/// again when it returns, and found only at the first iterate it costs a
+/// second loop.
+double keptWithin(const ContactOptions& o) { return std::max(o.penetration_tolerance, o.keep_gap); }
+
+}  // namespace
+
 bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, SampleFields* field,
                         LoopState* s, bool* detect_later, ContactStats* st) {
   const RootOptions& root = o.root;
@@ -427,14 +438,12 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
   // a device held by its contacts swings millimetres away from them in the
   // free motion, and crossings along that path are undone by the kept
   // contacts in the first loop anyway (options.detect_on_first_iterate).
-  *detect_later =
-      o.detect_on_first_iterate && pb.surface && hasKeptWallContacts(pb, o.penetration_tolerance);
+  *detect_later = o.detect_on_first_iterate && pb.surface && hasKeptWallContacts(pb, keptWithin(o));
   // A point beyond the wall where no plane can be found.
   bool stranded =
       pb.surface && !*detect_later &&
       detectWallCrossings(pb, s->x, root, field, &s->at_start, s->contacts, &s->contact_of);
-  keepWallContacts(pb, root, o.penetration_tolerance, field, &s->at_start, s->contacts,
-                   &s->contact_of);
+  keepWallContacts(pb, root, keptWithin(o), field, &s->at_start, s->contacts, &s->contact_of);
   if (*detect_later && s->contacts->empty()) {  // no kept contact found its plane
     *detect_later = false;
     stranded =

@@ -30,6 +30,8 @@ std::string validateContactOptions(const ContactOptions& o) {
     why << "contact_spacing must lie in [1e-5, 0.05] m";
   else if (!(o.penetration_tolerance >= 1e-9 && o.penetration_tolerance <= 1e-3))
     why << "penetration_tolerance must lie in [1e-9, 1e-3] m";
+  else if (!(o.keep_gap >= 0.0 && o.keep_gap <= 1e-3))
+    why << "keep_gap must lie in [0, 1e-3] m";
   else if (!(o.lumen_tolerance >= 1e-9 && o.lumen_tolerance <= 1e-3))
     why << "lumen_tolerance must lie in [1e-9, 1e-3] m";
   else if (!(o.lumen_settle >= 1e-4 && o.lumen_settle <= 1.0))

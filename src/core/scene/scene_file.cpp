@@ -156,6 +156,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
           "max_subdivisions",
           "contact_spacing",
           "penetration_tolerance",
+          "keep_gap",
           "lumen_tolerance",
           "root_tolerance",
           "wall_curvature",
@@ -190,6 +191,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   o.contact_spacing = r.number(n, "contact_spacing", "contact.", o.contact_spacing);
   o.penetration_tolerance =
       r.number(n, "penetration_tolerance", "contact.", o.penetration_tolerance);
+  o.keep_gap = r.number(n, "keep_gap", "contact.", o.keep_gap);
   o.root.tolerance = r.number(n, "root_tolerance", "contact.", o.root.tolerance);
   auto flag = [&](const char* key, bool fallback) {
     if (!n[key]) return fallback;

@@ -189,6 +189,13 @@ std::vector<SchemaEntry> makeSchema() {
           .unit("m")
           .def("1e-6")
           .in("[]", 1e-9, 1e-3),
+      Key("contact.keep_gap", T::kNumber,
+          "a wall contact that ended the last step without force at most this far from its plane "
+          "starts the next (at least penetration_tolerance; about the wall's travel in a step "
+          "where vessels move)")
+          .unit("m")
+          .def("0")
+          .in("[]", 0.0, 1e-3),
       Key("contact.root_tolerance", T::kNumber, "the first root's position")
           .unit("m")
           .def("1e-11")
