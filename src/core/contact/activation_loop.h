@@ -92,14 +92,14 @@ class SamplePositions {
 
 /// What the activation loop of one step carries from loop to loop.
 struct LoopState {
+  /// dq = dq_free; x not yet placed (placeAtFreeMotion or predictFirstIterate).
   LoopState(const ContactProblem& pb, std::vector<Contact>* contacts);
 
-  std::vector<VecX> dq_free;    // per device: the free motion x_f - x_t
-  std::vector<VecX> dq;         // the loop's iterate x - x_t
-  std::vector<DeviceState> xf;  // x_t (+) dq_free
-  std::vector<DeviceState> x;   // x_t (+) dq: the configuration the rows are linearised at
-  SamplePositions at_start;     // the points at x_t
-  SamplePositions at_x;         // and at x (reset with it)
+  std::vector<VecX> dq_free;   // per device: the free motion x_f - x_t
+  std::vector<VecX> dq;        // the loop's iterate x - x_t
+  std::vector<DeviceState> x;  // x_t (+) dq: the configuration the rows are linearised at
+  SamplePositions at_start;    // the points at x_t
+  SamplePositions at_x;        // and at x (reset with it)
   std::vector<Contact>* contacts;
   std::vector<std::vector<int>> contact_of;         // per device, sample -> contact or -1
   std::map<std::array<int, 4>, int> pair_contact;   // (device, element, device, element) -> contact
@@ -199,8 +199,10 @@ void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopS
 /// The first loop's iterate predicted from the last step's contact forces
 /// (options.predict_first_iterate): x = x_f + A^-1 H^T f, their forces f
 /// (normal and friction) applied at their points at x_t. Returns false
-/// (x left at x_f) when no contact of the last step carried a force.
+/// (x not placed) when no contact of the last step carried a force.
 bool predictFirstIterate(const ContactProblem& pb, LoopState* s);
+/// x = x_f (dq = dq_free).
+void placeAtFreeMotion(const ContactProblem& pb, LoopState* s);
 /// Back to x = x_f with no contacts: the prediction found nothing to hold.
 void restartAtFreeMotion(const ContactProblem& pb, LoopState* s);
 /// x = x_f + A^-1 H^T lambda; the contacts' forces from lambda.

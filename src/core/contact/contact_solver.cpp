@@ -53,10 +53,7 @@ LoopState::LoopState(const ContactProblem& pb, std::vector<Contact>* contact_lis
   dq_free.resize(nd);
   dq.resize(nd);
   for (size_t d = 0; d < nd; ++d) dq_free[d] = dq[d] = (*pb.workspaces)[d].dq;
-  moveInto(*pb.start, dq_free, &xf);
-  x = xf;
   at_start.reset(pb, pb.start);
-  at_x.reset(pb, &x);
   contact_of.resize(nd);
   for (size_t d = 0; d < nd; ++d) contact_of[d].assign((*pb.samples)[d].size(), -1);
   band.assign(nd, Band::kNone);
@@ -225,6 +222,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   // motion, and the turns that touch again at the first iterate took a
   // second loop (options.predict_first_iterate).
   const bool predicted = o.predict_first_iterate && predictFirstIterate(pb, &s);
+  if (!predicted) placeAtFreeMotion(pb, &s);
   bool stranded = detectOnFreeMotion(pb, o, &field, &s, &detect_later, st);
   if (predicted && (contacts->empty() || stranded)) {  // nothing holds it there: from x_f
     restartAtFreeMotion(pb, &s);

@@ -422,10 +422,14 @@ bool predictFirstIterate(const ContactProblem& pb, LoopState* s) {
   return true;
 }
 
-void restartAtFreeMotion(const ContactProblem& pb, LoopState* s) {
+void placeAtFreeMotion(const ContactProblem& pb, LoopState* s) {
   s->dq = s->dq_free;
-  s->x = s->xf;
+  moveInto(*pb.start, s->dq, &s->x);
   s->at_x.reset(pb, &s->x);
+}
+
+void restartAtFreeMotion(const ContactProblem& pb, LoopState* s) {
+  placeAtFreeMotion(pb, s);
   s->contacts->clear();
   for (auto& of : s->contact_of) std::fill(of.begin(), of.end(), -1);
   s->pair_contact.clear();
