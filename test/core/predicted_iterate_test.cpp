@@ -11,27 +11,13 @@
 #include <cstdio>
 
 #include "endovascular_sim/sim/simulation.h"
+#include "signorini_check.h"
 
 namespace evsim {
 namespace {
 
-/// The largest |gap| of a contact that carries a force [m]: Signorini's
-/// law wants 0.
-double largestActiveGap(const SimData& d) {
-  double worst = 0.0;
-  for (const Contact& c : d.contacts)
-    if (c.force > 0.0) worst = std::max(worst, std::abs(c.gap));
-  return worst;
-}
-
-/// Largest distance between the nodes of two sets of states [m].
-double largestNodeDistance(const std::vector<DeviceState>& a, const std::vector<DeviceState>& b) {
-  double worst = 0.0;
-  for (size_t d = 0; d < a.size(); ++d)
-    for (size_t i = 0; i < a[d].position.size(); ++i)
-      worst = std::max(worst, (a[d].position[i] - b[d].position[i]).norm());
-  return worst;
-}
+using test::largestActiveGap;
+using test::largestNodeDistance;
 
 // The coil of `aneurysm` pressed into the dome springs half a millimetre
 // open in its free motion; started where the last step's forces hold it,
