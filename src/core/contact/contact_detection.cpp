@@ -417,10 +417,6 @@ bool redetectLumen(const ContactProblem& pb, const ContactOptions& o, LoopState*
   return solved;
 }
 
-}  // namespace
-
-namespace {
-
 /// The largest gap [m] at which a wall contact of the last step without
 /// force starts this one (options.keep_gap): a point that lifted off its
 /// plane by a few micrometres as a moving wall drew back crosses the wall
