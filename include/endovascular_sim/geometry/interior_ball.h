@@ -57,8 +57,14 @@ struct InteriorBall {
   double device_radius{0.0};                    // [m]
   double a{0.0}, b{0.0};  // the motion sensitivity [-], once it was needed (sensed)
   bool sensed{false};     // a and b computed
-  bool follows{false};    // it may follow the motion (a and b exist or can be had)
-  int regions{-1};        // the snapshot's regions recorded (-1: none)
+  // The sensitivity of the ball this one replaced at the same sample point
+  // (negative: none): a hint only. A ball whose value that hint uses up is
+  // not followed (a point next to a moving wall, certified anew every step:
+  // its own sensitivity would only confirm it). Never a ball that does not
+  // hold: a ball not followed costs an evaluation, nothing else.
+  double hint_a{-1.0}, hint_b{-1.0};
+  bool follows{false};  // it may follow the motion (a and b exist or can be had)
+  int regions{-1};      // the snapshot's regions recorded (-1: none)
   std::array<Vec3, kMaxFollowedRegions> motion{};  // the snapshot it was certified at
 };
 

@@ -40,8 +40,13 @@ SampleFields::SampleFields(const ImplicitSurface* surface, const std::vector<siz
 
 void SampleFields::recentre(int d, int k, const Vec3& c, const FieldSample& at, double radius) {
   if (!balls_) return;
-  (*balls_)[d][k] =
+  InteriorBall& ball = (*balls_)[d][k];
+  const double hint_a = ball.sensed ? ball.a : ball.hint_a;
+  const double hint_b = ball.sensed ? ball.b : ball.hint_b;
+  ball =
       interiorBall(*surface_, c, at, radius, kMaxBallRadius, motion_ ? *motion_ : MotionSnapshot{});
+  ball.hint_a = hint_a;
+  ball.hint_b = hint_b;
   if (motion_) {  // certified at this snapshot: as it stands
     now_[d][k] = Ball{(*balls_)[d][k].center, (*balls_)[d][k].radius};
     now_known_[d][k] = 1;

@@ -55,6 +55,9 @@ Ball followBall(InteriorBall* kept, const ImplicitSurface& surface, const Motion
     last.now = motion;
     last.kappa = surface.deformationRate(last.then, motion);
   }
+  if (!ball.sensed && ball.hint_a >= 0.0 &&
+      ball.value <= ball.hint_a * last.kappa + ball.hint_b * last.kappa * last.kappa)
+    return Ball{};  // (InteriorBall::hint_a)
   const Vec3 shift = surface.displacementChange(ball.center, last.then, motion);
   if (shift.squaredNorm() > kBallSlack * kBallSlack) return Ball{};
   if (!ball.sensed) {
