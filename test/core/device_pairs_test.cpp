@@ -1,7 +1,8 @@
 // Device pairs (contact/device_pairs.h): the grid searches of point pairs
 // and of element pairs against brute-force scans of every pair, on random
 // dense clouds and chains of two devices (self-pairs and pairs between
-// devices, held points and elements, lumens); and the closest points of two
+// devices, held points and elements, lumens), also from candidates kept
+// from pass to pass; and the closest points of two
 // straight wires crossed at angles from 5 to 90 degrees against the
 // analytic distance of their axes; the swept test of a wire carried through
 // another in one step against where and when the two first touch.
@@ -95,6 +96,61 @@ TEST(DevicePairs, PointGridSearchFindsExactlyTheBruteForcePairs) {
   EXPECT_GT(found, 1000);  // the clouds are dense enough to test something
   std::printf("[ metric   ] %d point pairs found in 60 clouds, all equal to the brute force\n",
               found);
+}
+
+TEST(DevicePairs, PointCandidatesKeptFromPassToPassFindTheBruteForcePairs) {
+  // The loop's passes, and the next steps, move the points a little: the
+  // candidates built at one pass are reused while every point was there,
+  // with its radius, and moved less than the skin, else rebuilt. Either way
+  // the pairs equal the brute force's at each pass; a point the build did
+  // not see, or one whose radius changed, rebuilds them.
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(0.0, 1.0), jitter(-1.0, 1.0);
+  const double element_length = 5e-4;  // [m]
+  std::vector<DeviceModel> devices(2);
+  for (auto& d : devices) d.elements.assign(300, BeamElementRest{element_length});
+  pairs::PointCandidates candidates;
+  int found = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    const double box = 2e-3 + 2e-3 * u(rng);  // [m]
+    std::vector<PointRef> pts;
+    for (int device = 0; device < 2; ++device)
+      for (int e = 0; e < 300; ++e) {
+        const Vec3 p = box * Vec3(u(rng), u(rng), u(rng)) - Vec3::Constant(box / 2);
+        pts.push_back({u(rng) < 0.9, device, e, e, e * element_length, p, 1e-4 + 5e-5 * u(rng),
+                       device == 1 && u(rng) < 0.2 ? 0 : -1});
+      }
+    const int builds = candidates.builds, reuses = candidates.reuses;
+    // Built here (the last trial's points moved by far more than the skin),
+    // then moved by up to 0.3 skins twice (from the build), 5 skins, a
+    // point left out of the build and a radius changed.
+    for (const std::string what : {"build", "0.3", "0.3", "5", "unseen", "radius"}) {
+      SCOPED_TRACE("trial " + std::to_string(trial) + " " + what);
+      std::vector<PointRef> at = pts;
+      const double moved = what == "0.3" ? 0.3 : what == "5" ? 5.0 : 0.0;
+      for (PointRef& q : at)
+        q.p +=
+            moved * candidates.skin / std::sqrt(3.0) * Vec3(jitter(rng), jitter(rng), jitter(rng));
+      if (what == "5") pts = at;  // the next passes from here
+      if (what == "unseen")
+        at.push_back(
+            {true, 0, 300, 299, 300 * element_length, at[7].p, 1e-4, -1});  // on top of point 7
+      if (what == "radius") at[3].r *= 1.01;
+      for (double margin : {0.0, -1e-6}) {
+        const std::vector<PointPair> kept = pairs::findPointPairs(devices, at, margin, &candidates);
+        found += expectSamePairs(kept, bruteForcePointPairs(devices, at, margin));
+      }
+    }
+    // Per pass two searches (margins 0 and -1e-6 m, the second always
+    // reusing the first's): built at "build", "5", "unseen", "radius".
+    EXPECT_EQ(candidates.builds - builds, 4);
+    EXPECT_EQ(candidates.reuses - reuses, 8);
+  }
+  EXPECT_GT(found, 500);
+  std::printf(
+      "[ metric   ] %d point pairs from kept and rebuilt candidates, all equal to the brute "
+      "force\n",
+      found);
 }
 
 /// A device of `nodes` nodes along a random walk of steps `length` [m]

@@ -98,6 +98,7 @@ struct LoopState {
   std::vector<VecX> dq_free;   // per device: the free motion x_f - x_t
   std::vector<VecX> dq;        // the loop's iterate x - x_t
   std::vector<DeviceState> x;  // x_t (+) dq: the configuration the rows are linearised at
+  bool held_placed{false};     // x holds the held nodes (placeIterate)
   SamplePositions at_start;    // the points at x_t
   SamplePositions at_x;        // and at x (reset with it)
   std::vector<Contact>* contacts;
@@ -142,10 +143,11 @@ struct LoopSystem {
 
 // --- Shared small helpers ---------------------------------------------------
 
-/// Configuration x_t (+) dq for every device, into *x (its storage reused:
-/// the loop's iterate is moved once per loop).
-void moveInto(const std::vector<DeviceState>& start, const std::vector<VecX>& dq,
-              std::vector<DeviceState>* x);
+/// Places the loop's iterate: s->x = x_t (+) s->dq for every device (its
+/// storage reused), s->at_x reset. The loop changes only the free nodes'
+/// increments (the held ones' are the drive's, those of the free motion):
+/// once x holds the held nodes, only the free nodes are moved again.
+void placeIterate(const ContactProblem& pb, LoopState* s);
 /// True when sample point s of device d takes part in contacts: it moves
 /// with a free node and does not lie inside the element cut by a detachment.
 bool takesPart(const ContactProblem& pb, size_t d, const SamplePoint& s);

@@ -11,6 +11,7 @@
 #include "activation_loop.h"
 #include "endovascular_sim/contact/coaxial.h"
 #include "endovascular_sim/mechanics/elasticity.h"
+#include "endovascular_sim/mechanics/so3.h"
 #include "pair_detection.h"
 #include "wall_planes.h"
 
@@ -22,11 +23,26 @@ using walls::farExit;
 using walls::lastWallAlong;
 using walls::tunnelExit;
 
-/// Configuration x_t (+) dq for every device.
-void moveInto(const std::vector<DeviceState>& start, const std::vector<VecX>& dq,
-              std::vector<DeviceState>* x) {
-  *x = start;
-  for (size_t d = 0; d < x->size(); ++d) applyIncrement(dq[d], 0, &(*x)[d]);
+void placeIterate(const ContactProblem& pb, LoopState* s) {
+  const std::vector<DeviceState>& start = *pb.start;
+  if (!s->held_placed) {
+    s->x = start;
+    for (size_t d = 0; d < s->x.size(); ++d) applyIncrement(s->dq[d], 0, &s->x[d]);
+    s->held_placed = true;
+  } else {
+    // As applyIncrement from x_t, from the first free node on.
+    for (size_t d = 0; d < s->x.size(); ++d) {
+      const VecX& dq = s->dq[d];
+      DeviceState& x = s->x[d];
+      const int n = static_cast<int>(x.position.size());
+      for (int i = std::max(0, (*pb.workspaces)[d].first_free_node); i < n; ++i) {
+        x.position[i] = start[d].position[i] + dq.segment<3>(6 * i);
+        x.rotation[i] = expQuaternion(dq.segment<3>(6 * i + 3)) * start[d].rotation[i];
+        x.rotation[i].normalize();
+      }
+    }
+  }
+  s->at_x.reset(pb, &s->x);
 }
 
 namespace {
@@ -457,7 +473,7 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
     if (o.element_pairs) keepPairs(pb, s);
     const bool passed_through = s->contacts->empty();
     for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, 0.0, stepStartAxes(pb, o, s),
-                                          passed_through, &s->pair_candidates))
+                                          passed_through, &s->pair_candidates, &s->at_x))
       if (!s->pair_contact.count(f.key)) addPair(f, s);
     ++st->pair_passes;
     st->pairs_ms += msSince(tp);

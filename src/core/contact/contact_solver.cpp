@@ -282,7 +282,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   // the points at x (without contacts, no point crossed: 0).
   finishContacts(pb, s.x, contacts, st);
   for (size_t d = 0; d < ws.size(); ++d) ws[d].dq = s.dq[d];
-  if (pb.end) pb.end->swap(s.x);  // x_t (+) s.dq: moveInto's, as commitMotion's
+  if (pb.end) pb.end->swap(s.x);  // x_t (+) s.dq: placeIterate's, as commitMotion's
   return solved;
 }
 

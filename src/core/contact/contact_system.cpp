@@ -417,15 +417,13 @@ bool predictFirstIterate(const ContactProblem& pb, LoopState* s) {
     ws[d].factor.solveInPlace(&f[d]);
     s->dq[d].tail(f[d].size()) += f[d];
   }
-  moveInto(*pb.start, s->dq, &s->x);
-  s->at_x.reset(pb, &s->x);
+  placeIterate(pb, s);
   return true;
 }
 
 void placeAtFreeMotion(const ContactProblem& pb, LoopState* s) {
   s->dq = s->dq_free;
-  moveInto(*pb.start, s->dq, &s->x);
-  s->at_x.reset(pb, &s->x);
+  placeIterate(pb, s);
 }
 
 void restartAtFreeMotion(const ContactProblem& pb, LoopState* s) {
@@ -462,8 +460,7 @@ void correctMotion(const ContactProblem& pb, const ContactOptions& o, const Loop
       s->dq[d].tail(n) += correction;
     }
   }
-  moveInto(*pb.start, s->dq, &s->x);
-  s->at_x.reset(pb, &s->x);
+  placeIterate(pb, s);
   for (int i = 0; i < sys.c; ++i) {
     Contact& ct = (*s->contacts)[i];
     ct.force = lambda(dim * i);

@@ -274,15 +274,11 @@ Touch firstTouch(const HermiteAxis& a0, const HermiteAxis& a1, const HermiteAxis
 /// two bodies and touch as any pair. Per pair of elements the closest pair
 /// only.
 std::vector<PointPair> findPointPairs(const std::vector<DeviceModel>& devices,
-                                      const std::vector<PointRef>& pts, double margin) {
-  double rmax = 0.0;
-  for (const auto& q : pts) rmax = std::max(rmax, q.r);
-  std::vector<Vec3> at(pts.size());
-  for (size_t i = 0; i < pts.size(); ++i) at[i] = pts[i].p;
-  const CellRows grid(at, 2.0 * rmax + margin);
+                                      const std::vector<PointRef>& pts, double margin,
+                                      PointCandidates* candidates) {
   std::vector<Candidate> found;
-  auto check = [&](int at, int k) {
-    const int i = grid.sorted[at].second, j = grid.sorted[k].second;
+  // A pair within reach, by its indices in pts.
+  auto check = [&](int i, int j) {
     // a: the lower index (the contact's first point), as a scan in index
     // order would make it.
     const int ia = std::min(i, j), ib = std::max(i, j);
@@ -304,7 +300,70 @@ std::vector<PointPair> findPointPairs(const std::vector<DeviceModel>& devices,
                              static_cast<int64_t>(b.device) << 20 | b.element;
     found.push_back({elements, std::sqrt(dist2), ia, ib});
   };
-  grid.forNeighbours(check);
+  // The candidates of an earlier pass (of this step or an earlier one),
+  // where every point now was, with its radius, and from where it moved
+  // less than the skin: a pair within reach now was within reach plus
+  // twice the skin there.
+  std::vector<int> now;  // per point when built: its index in pts, or -1
+  if (candidates && candidates->reach >= margin) {
+    const PointCandidates& c = *candidates;
+    const double skin2 = c.skin * c.skin;
+    now.assign(c.at.size(), -1);
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const int d = pts[i].device, k = pts[i].sample;
+      const int at = d < static_cast<int>(c.slot.size()) && k < static_cast<int>(c.slot[d].size())
+                         ? c.slot[d][k]
+                         : -1;
+      if (at < 0 || c.r[at] != pts[i].r || (pts[i].p - c.at[at]).squaredNorm() >= skin2) {
+        now.clear();
+        break;
+      }
+      now[at] = static_cast<int>(i);
+    }
+  }
+  if (!now.empty()) {
+    ++candidates->reuses;
+    for (const auto& [k, l] : candidates->pairs)
+      if (now[k] >= 0 && now[l] >= 0) check(now[k], now[l]);
+    return closestPerElementPair(std::move(found));
+  }
+  double rmax = 0.0;
+  for (const auto& q : pts) rmax = std::max(rmax, q.r);
+  // Building the candidates: the pairs within reach plus twice the skin
+  // (half the largest radius: a coil's turns move some micrometres from
+  // pass to pass and from step to step), whatever their other tests, which
+  // are made on use.
+  double grow = 0.0;
+  if (candidates) {
+    PointCandidates& c = *candidates;
+    c.skin = 0.5 * rmax;
+    c.reach = margin;
+    grow = 2.0 * c.skin;
+    c.slot.assign(devices.size(), {});
+    c.at.resize(pts.size());
+    c.r.resize(pts.size());
+    for (size_t i = 0; i < pts.size(); ++i) {
+      std::vector<int>& slot = c.slot[pts[i].device];
+      if (static_cast<int>(slot.size()) <= pts[i].sample) slot.resize(pts[i].sample + 1, -1);
+      slot[pts[i].sample] = static_cast<int>(i);
+      c.at[i] = pts[i].p;
+      c.r[i] = pts[i].r;
+    }
+    c.pairs.clear();
+    ++c.builds;
+  }
+  std::vector<Vec3> at(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) at[i] = pts[i].p;
+  const CellRows grid(at, 2.0 * rmax + margin + grow);
+  grid.forNeighbours([&](int at_sorted, int k_sorted) {
+    const int i = grid.sorted[at_sorted].second, j = grid.sorted[k_sorted].second;
+    if (candidates) {
+      const double reach = pts[i].r + pts[j].r + margin + grow;
+      if ((pts[i].p - pts[j].p).squaredNorm() >= reach * reach) return;
+      candidates->pairs.push_back({std::min(i, j), std::max(i, j)});
+    }
+    check(i, j);
+  });
   return closestPerElementPair(std::move(found));
 }
 

@@ -34,11 +34,27 @@ struct PointPair {
   double distance;
 };
 
+/// Candidate point pairs kept from pass to pass (a Verlet list, as
+/// PairCandidates for elements): the pairs that came within reach plus
+/// twice a skin where it was built; reused while every point of the pass
+/// was there, with the same radius, and moved less than the skin since
+/// (device_pairs.cpp).
+struct PointCandidates {
+  double skin{0.0};                       // [m]
+  double reach{-1.0};                     // the margin it was built for [m] (< 0: none)
+  std::vector<std::vector<int>> slot;     // per device and sample: its index below, or -1
+  std::vector<Vec3> at;                   // per point when built [m]
+  std::vector<double> r;                  // and its radius [m]
+  std::vector<std::array<int, 2>> pairs;  // the candidates (indices above)
+  int builds{0}, reuses{0};
+};
+
 /// Pairs of points, at least one of them free, closer than the sum of their
 /// radii plus `margin` [m] (contact.element_pairs false); see
 /// device_pairs.cpp.
 std::vector<PointPair> findPointPairs(const std::vector<DeviceModel>& devices,
-                                      const std::vector<PointRef>& pts, double margin);
+                                      const std::vector<PointRef>& pts, double margin,
+                                      PointCandidates* candidates = nullptr);
 
 /// An element in a configuration (held ones are kinematic obstacles).
 struct ElementRef {

@@ -22,7 +22,9 @@ namespace {
 /// held ones within reach of a free one. A point of an inner device within
 /// its outer device's lumen, or less than a few radii beyond its tip, is marked:
 /// it touches the outer device through the lumen constraint, never as a pair.
-std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<DeviceState>& x) {
+/// positions: the points at x, when the pass has them (else computed here).
+std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<DeviceState>& x,
+                                 SamplePositions* positions) {
   const auto& devices = *pb.devices;
   const auto& samples = *pb.samples;
   // A pair needs a free point, and its points closer than their radii: a
@@ -30,6 +32,9 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
   // radius pairs with none (most of a device still in its introducer), and
   // neither does a held element's point when the element's box (its nodes',
   // grown by half its length: more than any bow) misses it.
+  auto position = [&](size_t d, size_t k) {
+    return positions ? positions->at(d, k) : samplePosition(devices[d], x[d], samples[d][k]);
+  };
   Eigen::AlignedBox3d box;
   double rmax = 0.0;
   std::vector<std::vector<char>> free(devices.size());  // per sample: takes part
@@ -42,7 +47,7 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
       rmax = std::max(rmax, sp.radius);
       free[d][k] = takesPart(pb, d, sp);
       if (!free[d][k] || (sp.element == x[d].cut_element && sp.xi > 0.0)) continue;
-      at[d][k] = samplePosition(devices[d], x[d], sp);
+      at[d][k] = position(d, k);
       box.extend(at[d][k]);
     }
   }
@@ -57,6 +62,9 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
     return !box.intersects(span);
   };
   std::vector<PointRef> pts;
+  size_t count = 0;
+  for (const auto& on_device : samples) count += on_device.size();
+  pts.reserve(count);
   for (size_t d = 0; d < devices.size(); ++d) {
     const int outer = outerOf(pb, d);
     const double reach = outer < 0
@@ -72,7 +80,7 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
         missed = sp.element;
         continue;
       }
-      const Vec3 p = part ? at[d][k] : samplePosition(devices[d], x[d], sp);
+      const Vec3 p = part ? at[d][k] : position(d, k);
       if (!part && !box.contains(p)) continue;
       const double s = materialCoordinate(devices[d], sp);
       const bool held =
@@ -172,6 +180,17 @@ std::vector<ElementRef> pairElements(const ContactProblem& pb, const std::vector
   return els;
 }
 
+/// The sample points' pair candidates, kept from pass to pass and from
+/// step to step, per thread as the vessel field's caches are: a coil's
+/// points move some micrometres a step, and the candidates stay valid for
+/// several steps. Whatever built them, they are used only where every
+/// point of the pass was there with its radius and moved less than the skin
+/// since (findPointPairs): the pairs found are those of a full search.
+pairs::PointCandidates& keptPointCandidates() {
+  thread_local pairs::PointCandidates kept;
+  return kept;
+}
+
 }  // namespace
 
 /// The device pairs at x within `margin` [m]: sample points closer than
@@ -182,7 +201,7 @@ std::vector<ElementRef> pairElements(const ContactProblem& pb, const std::vector
 std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
                                    const std::vector<DeviceState>& x, double margin,
                                    const pairs::StartAxes* from, bool passed_through,
-                                   pairs::PairCandidates* candidates) {
+                                   pairs::PairCandidates* candidates, SamplePositions* positions) {
   const auto& samples = *pb.samples;
   std::vector<FoundPair> out;
   auto found = [&](int da, int sa, int ea, int db, int sb, int eb) {
@@ -192,8 +211,9 @@ std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
     return f;
   };
   if (!element_pairs) {
-    const std::vector<PointRef> pts = freePoints(pb, x);
-    for (const pairs::PointPair& pr : pairs::findPointPairs(*pb.devices, pts, margin)) {
+    const std::vector<PointRef> pts = freePoints(pb, x, positions);
+    for (const pairs::PointPair& pr : pairs::findPointPairs(
+             *pb.devices, pts, margin, candidates ? &keptPointCandidates() : nullptr)) {
       const PointRef &a = pts[pr.a], &b = pts[pr.b];
       FoundPair f = found(a.device, a.sample, a.element, b.device, b.sample, b.element);
       f.key = {a.device, a.sample, b.device, b.sample};
@@ -272,8 +292,9 @@ const pairs::StartAxes* stepStartAxes(const ContactProblem& pb, const ContactOpt
 
 bool redetectPairs(const ContactProblem& pb, const ContactOptions& o, LoopState* s) {
   bool solved = true;
-  for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, -o.penetration_tolerance,
-                                        stepStartAxes(pb, o, s), true, &s->pair_candidates)) {
+  for (const FoundPair& f :
+       devicePairs(pb, o.element_pairs, s->x, -o.penetration_tolerance, stepStartAxes(pb, o, s),
+                   true, &s->pair_candidates, &s->at_x)) {
     solved = false;
     const auto it = s->pair_contact.find(f.key);
     if (it != s->pair_contact.end() && !s->updated[it->second]) {

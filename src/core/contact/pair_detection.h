@@ -26,12 +26,15 @@ struct FoundPair {
 /// with element pairs and the axes at the step's start `from`, also those
 /// that crossed since: the ones overlapping at x, and with `passed_through`
 /// those apart there too (device_pairs.h). `candidates`: element pairs'
-/// candidates kept from an earlier pass of the step (device_pairs.h).
+/// candidates kept from an earlier pass of the step (device_pairs.h); given,
+/// sample points' candidates are kept too (pair_detection.cpp). `positions`:
+/// the sample points at x, when the pass has them.
 std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
                                    const std::vector<DeviceState>& x, double margin,
                                    const pairs::StartAxes* from = nullptr,
                                    bool passed_through = true,
-                                   pairs::PairCandidates* candidates = nullptr);
+                                   pairs::PairCandidates* candidates = nullptr,
+                                   SamplePositions* positions = nullptr);
 
 /// The axes at the step's start for element pairs' swept test, computed on
 /// first use in the step (none for sample points).
