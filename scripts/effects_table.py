@@ -24,7 +24,7 @@ import yaml
 HERE = os.path.dirname(os.path.abspath(__file__))
 EVSIM = os.path.join(HERE, "..", "build", "ws", "devel", "lib", "endovascular_sim", "evsim")
 SCENES = os.path.join(HERE, "..", "config", "scenes")
-OPTIONAL = ["gravity", "device_contact", "subdivision", "friction"]
+OPTIONAL = ["gravity", "device_contact", "subdivision", "friction", "blood_drag"]
 # Steps measured (after a warm-up) for the stability scenes, whose whole
 # procedure takes minutes; every other scene is measured over its whole
 # procedure (its `duration`).

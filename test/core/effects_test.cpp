@@ -37,6 +37,7 @@ TEST(Effects, ShippedScenesEnterOnlyTheEffectsTheyName) {
     EXPECT_EQ(c.gravity > 0, named(spec, "gravity")) << name;
     EXPECT_EQ(c.vessel_motion > 0, named(spec, "vessel_motion")) << name;
     EXPECT_EQ(c.device_contact > 0, named(spec, "device_contact")) << name;
+    EXPECT_EQ(c.blood_drag > 0, named(spec, "blood_drag")) << name;
     if (!named(spec, "subdivision")) {
       EXPECT_EQ(c.subdivision, 0) << name;
     }
@@ -49,6 +50,16 @@ TEST(Effects, GravityOffIsNeverApplied) {
   EXPECT_EQ(run(withEffects(spec, {}), 50).gravity, 0);
   const SceneModel model = buildSceneModel(withEffects(spec, {}));
   EXPECT_EQ(model.gravity, Vec3::Zero());
+}
+
+TEST(Effects, BloodDragOnlyWhenNamed) {
+  const SceneSpec spec = loadSceneFile(resolveScenePath("free_insertion"));
+  ASSERT_FALSE(named(spec, "blood_drag"));
+  EXPECT_EQ(run(spec, 50).blood_drag, 0);
+  EXPECT_TRUE(buildSceneModel(spec).devices[0].node_drag_across.empty());  // nothing built
+  const SceneSpec in_blood = withEffects(spec, {"gravity", "blood_drag"});
+  EXPECT_GT(run(in_blood, 50).blood_drag, 0);
+  EXPECT_FALSE(buildSceneModel(in_blood).devices[0].node_drag_across.empty());
 }
 
 TEST(Effects, VesselMotionOffBuildsNoMotion) {

@@ -158,6 +158,12 @@ TEST_F(Loader, NanInSceneIsNamed) {
               "must be a list of 3 finite numbers");
 }
 
+TEST_F(Loader, BloodViscosityOutOfRangeIsNamed) {
+  expectNames(
+      sceneError("gravity: [0, 0, -9.81]\n", "gravity: [0, 0, -9.81]\nblood_viscosity: 0\n"),
+      "scene.yaml", 5, "blood_viscosity", "must lie in (0, 0.1] Pa s");
+}
+
 TEST_F(Loader, UnknownEffectIsNamed) {
   expectNames(sceneError("[gravity]", "[gravity, magnetism]"), "scene.yaml", 3, "effects[1]",
               "'magnetism' must be one of gravity, vessel_motion, device_contact");

@@ -73,6 +73,8 @@ struct DeviceModel {
   double max_rotation_speed{0.0};              // [rad/s]
   double rayleigh_mass{0.0};                   // [1/s]
   double rayleigh_stiffness{0.0};              // [s]
+  // Effect 'blood_drag' (mechanics/blood_drag.h): per node [N s/m]; empty: none.
+  std::vector<double> node_drag_across, node_drag_along;
   int detach_element{-1};  // cut on detach: the last element before detach_section (-1: none)
 };
 

@@ -93,6 +93,7 @@ struct SceneSpec {
   double time_step{1e-3};            // [s]
   std::vector<std::string> effects;  // names, validated
   Vec3 gravity{0.0, 0.0, -9.81};     // [m/s^2], used with effect 'gravity'
+  double blood_viscosity{3.5e-3};    // [Pa s], used with effect 'blood_drag'
   VesselSpec vessels;
   ContactOptions contact;
   SleepOptions sleep;

@@ -37,6 +37,7 @@ struct EffectSet {
   bool subdivision{false};     // an unsolved step is redone as halves
   bool friction{false};        // Coulomb friction on every contact (mu per device section)
   bool coaxial{false};         // inner devices held in their outer devices' lumens
+  bool blood_drag{false};      // the still blood's viscous drag on every free node
 };
 
 /// How often each effect's code ran since makeData (tests read them: an
@@ -48,6 +49,7 @@ struct EffectCounters {
   long subdivision{0};     // steps halved
   long friction{0};        // frictional contact problems solved
   long coaxial{0};         // passes of lumen detection
+  long blood_drag{0};      // free motions loaded with the blood's drag
 };
 
 struct SceneModel {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "endovascular_sim/mechanics/blood_drag.h"
 #include "endovascular_sim/mechanics/elasticity.h"
 #include "endovascular_sim/mechanics/sheath_support.h"
 #include "endovascular_sim/mechanics/so3.h"
@@ -65,6 +66,8 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
   for (int i = std::max(held, 0); i < n; ++i) {
     const Mat6 M = nodeMass(model, state, i);
     A.diag[i] = cm * M + ck * ws->stiffness.diag[i];
+    if (!model.node_drag_across.empty())  // effect 'blood_drag': implicit, D v at the step's end
+      A.diag[i].topLeftCorner<3, 3>() += nodeDrag(model, i, state.rotation[i] * Vec3::UnitX()) / dt;
     if (i + 1 < n) A.upper[i] = ck * ws->stiffness.upper[i];
     if (i < first_free) continue;
     Vec6 f = Vec6::Zero();

@@ -306,7 +306,8 @@ std::string validateSleepOptions(const SleepOptions& o) {
 
 const std::vector<std::string>& knownEffects() {
   static const std::vector<std::string> effects = {"gravity",     "vessel_motion", "device_contact",
-                                                   "subdivision", "friction",      "coaxial"};
+                                                   "subdivision", "friction",      "coaxial",
+                                                   "blood_drag"};
   return effects;
 }
 
@@ -436,8 +437,8 @@ SceneSpec readSceneFile(const std::string& path) {
   throwLoadErrors(problems);
   if (!root.IsMap()) r.fail(root, "", "a scene is a YAML map");
   r.keys(root, "",
-         {"name", "description", "time_step", "duration", "effects", "gravity", "vessels",
-          "contact", "sleep", "devices", "script", "targets", "xray"});
+         {"name", "description", "time_step", "duration", "effects", "gravity", "blood_viscosity",
+          "vessels", "contact", "sleep", "devices", "script", "targets", "xray"});
   SceneSpec s;
   s.file = path;
   s.name = r.text(r.required(root, "name", "name"), "name");
@@ -448,6 +449,9 @@ SceneSpec readSceneFile(const std::string& path) {
 
   if (root["effects"]) s.effects = readEffects(r, root["effects"]);
   if (root["gravity"]) s.gravity = r.vector3(root["gravity"], "gravity");
+  s.blood_viscosity = r.number(root, "blood_viscosity", "", s.blood_viscosity);
+  if (!(s.blood_viscosity > 0.0 && s.blood_viscosity <= 0.1))
+    r.fail(root["blood_viscosity"], "blood_viscosity", "must lie in (0, 0.1] Pa s");
 
   const fs::path scene_dir = fs::path(path).parent_path();
   if (root["vessels"]) s.vessels = readVessels(r, root["vessels"], scene_dir);

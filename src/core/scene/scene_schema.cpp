@@ -4,6 +4,8 @@
 // refused before any section is read.
 #include "endovascular_sim/scene/scene_schema.h"
 
+#include "endovascular_sim/scene/scene_file.h"
+
 namespace evsim {
 namespace {
 
@@ -33,8 +35,7 @@ struct Key {
 
 // One function of about 300 lines: a table, a row per key, not logic.
 std::vector<SchemaEntry> makeSchema() {
-  const std::vector<std::string> effects = {"gravity",     "vessel_motion", "device_contact",
-                                            "subdivision", "friction",      "coaxial"};
+  const std::vector<std::string> effects = knownEffects();
   return {
       Key("name", T::kText, "the scene's name (evsim list, the node's /stats)").req(),
       Key("description", T::kText, "one line on what the scene shows"),
@@ -51,6 +52,11 @@ std::vector<SchemaEntry> makeSchema() {
       Key("gravity", T::kVector3, "gravity, used with the effect 'gravity'")
           .unit("m/s^2")
           .def("[0, 0, -9.81]"),
+      Key("blood_viscosity", T::kNumber,
+          "the still blood's viscosity, used with the effect 'blood_drag' (docs/model.md)")
+          .unit("Pa s")
+          .def("3.5e-3")
+          .in("(]", 0, 0.1),
 
       Key("vessels", T::kMap, "the vessels; without them the scene is free space"),
       Key("vessels.centerline", T::kText,

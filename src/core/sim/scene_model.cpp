@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/mechanics/blood_drag.h"
 #include "endovascular_sim/sim/simulation.h"
 
 namespace evsim {
@@ -222,6 +223,8 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
       m.effects.friction = true;
     else if (e == "coaxial")
       m.effects.coaxial = true;
+    else if (e == "blood_drag")
+      m.effects.blood_drag = true;
   if (m.effects.gravity) m.gravity = spec.gravity;
   std::shared_ptr<VesselField> field;  // tabulated once the devices' radii are known
   if (spec.vessels.present) {
@@ -248,6 +251,7 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
   if (m.effects.vessel_motion) m.sleep.enabled = false;
   for (const auto& d : spec.devices) {
     m.devices.push_back(buildDeviceModel(d.device));
+    if (m.effects.blood_drag) setBloodDrag(spec.blood_viscosity, &m.devices.back());
     m.introducers.push_back(d.introducer);
     m.drive_specs.push_back(d.drive);
     m.initial_inserted_length.push_back(d.inserted_length);

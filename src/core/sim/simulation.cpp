@@ -105,6 +105,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     advanceDrive(data->commands[i], model.devices[i], dt, &(*next)[i],
                  i < data->stalls.size() ? data->stalls[i] : DriveStall{});
     if (model.effects.gravity) ++data->effect_calls.gravity;
+    if (model.effects.blood_drag) ++data->effect_calls.blood_drag;
     FreeMotionTimes t;
     // The sheath holds a device leaving it; a device inside another, that
     // device's lumen does.
