@@ -69,6 +69,21 @@ std::vector<PointPair> bruteForcePointPairs(const std::vector<DeviceModel>& devi
   return out;
 }
 
+/// Two devices' 300 points each, uniform in the cube of edge `box` [m]
+/// around the origin: nine in ten free, radii 0.1-0.15 mm, a fifth of the
+/// second device's in the first one's lumen.
+std::vector<PointRef> randomCloud(double box, double element_length, std::mt19937* rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<PointRef> pts;
+  for (int device = 0; device < 2; ++device)
+    for (int e = 0; e < 300; ++e) {
+      const Vec3 p = box * Vec3(u(*rng), u(*rng), u(*rng)) - Vec3::Constant(box / 2);
+      pts.push_back({u(*rng) < 0.9, device, e, e, e * element_length, p, 1e-4 + 5e-5 * u(*rng),
+                     device == 1 && u(*rng) < 0.2 ? 0 : -1});
+    }
+  return pts;
+}
+
 TEST(DevicePairs, PointGridSearchFindsExactlyTheBruteForcePairs) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -78,13 +93,7 @@ TEST(DevicePairs, PointGridSearchFindsExactlyTheBruteForcePairs) {
   int compared = 0, found = 0;
   for (int trial = 0; trial < 20; ++trial) {
     const double box = 2e-3 + 4e-3 * u(rng);  // [m] edge of the cloud (dense to sparse)
-    std::vector<PointRef> pts;
-    for (int device = 0; device < 2; ++device)
-      for (int e = 0; e < 300; ++e) {
-        const Vec3 p = box * Vec3(u(rng), u(rng), u(rng)) - Vec3::Constant(box / 2);
-        pts.push_back({u(rng) < 0.9, device, e, e, e * element_length, p, 1e-4 + 5e-5 * u(rng),
-                       device == 1 && u(rng) < 0.2 ? 0 : -1});
-      }
+    std::vector<PointRef> pts = randomCloud(box, element_length, &rng);
     for (double margin : {0.0, -1e-6, 5e-5}) {
       SCOPED_TRACE("trial " + std::to_string(trial) + " margin " + std::to_string(margin));
       found += expectSamePairs(pairs::findPointPairs(devices, pts, margin),
@@ -113,13 +122,7 @@ TEST(DevicePairs, PointCandidatesKeptFromPassToPassFindTheBruteForcePairs) {
   int found = 0;
   for (int trial = 0; trial < 8; ++trial) {
     const double box = 2e-3 + 2e-3 * u(rng);  // [m]
-    std::vector<PointRef> pts;
-    for (int device = 0; device < 2; ++device)
-      for (int e = 0; e < 300; ++e) {
-        const Vec3 p = box * Vec3(u(rng), u(rng), u(rng)) - Vec3::Constant(box / 2);
-        pts.push_back({u(rng) < 0.9, device, e, e, e * element_length, p, 1e-4 + 5e-5 * u(rng),
-                       device == 1 && u(rng) < 0.2 ? 0 : -1});
-      }
+    std::vector<PointRef> pts = randomCloud(box, element_length, &rng);
     const int builds = candidates.builds, reuses = candidates.reuses;
     // Built here (the last trial's points moved by far more than the skin),
     // then moved by up to 0.3 skins twice (from the build), 5 skins, a
