@@ -83,5 +83,15 @@ TEST(BloodDrag, ARodSinksAtSlenderBodyTheorysTerminalVelocityAlongAndAcrossItsAx
   EXPECT_GT((s.position.back() - s.position.front()).normalized().dot(along), 1.0 - 1e-9);
 }
 
+TEST(BloodDrag, ARodThatIsNotSlenderGetsABoundedDrag) {
+  // ln(L / a) at or below 1 (a stub, a ball): the drag of L / a = e, never
+  // an infinite or negative one.
+  for (double L : {1e-3, 2.718e-3, 1e-4}) {
+    EXPECT_DOUBLE_EQ(dragAcross(kMu, L, 1e-3), 4.0 * M_PI * kMu) << L;
+    EXPECT_DOUBLE_EQ(dragAlong(kMu, L, 1e-3), 2.0 * M_PI * kMu) << L;
+  }
+  EXPECT_LT(dragAcross(kMu, 1.0, 1e-3), 4.0 * M_PI * kMu);  // slender: ln 1000
+}
+
 }  // namespace
 }  // namespace evsim

@@ -19,7 +19,8 @@
 namespace evsim {
 
 /// Drag coefficients per unit length [N s / m^2] of a rod of length L [m]
-/// and radius a [m] (L > a) in a fluid of viscosity mu [Pa s].
+/// and radius a [m] in a fluid of viscosity mu [Pa s] (ln(L / a) taken as
+/// at least 1: a rod that is not slender gets a bounded drag).
 double dragAcross(double mu, double L, double a);
 double dragAlong(double mu, double L, double a);
 

@@ -2,13 +2,23 @@
 // documented in endovascular_sim/mechanics/blood_drag.h.
 #include "endovascular_sim/mechanics/blood_drag.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace evsim {
 
-double dragAcross(double mu, double L, double a) { return 4.0 * M_PI * mu / std::log(L / a); }
+namespace {
 
-double dragAlong(double mu, double L, double a) { return 2.0 * M_PI * mu / std::log(L / a); }
+/// ln(L / a), at least 1: the theory is for slender rods; a stub of a
+/// device (L / a below e) gets the drag of one at L / a = e, not an
+/// unbounded one.
+double slenderness(double L, double a) { return std::max(1.0, std::log(L / a)); }
+
+}  // namespace
+
+double dragAcross(double mu, double L, double a) { return 4.0 * M_PI * mu / slenderness(L, a); }
+
+double dragAlong(double mu, double L, double a) { return 2.0 * M_PI * mu / slenderness(L, a); }
 
 void setBloodDrag(double mu, DeviceModel* model) {
   const int n = model->num_nodes;
