@@ -48,8 +48,9 @@ TEST(BloodDrag, ARodSinksAtSlenderBodyTheorysTerminalVelocityAlongAndAcrossItsAx
   SceneModel m = rodInBlood();
   SimData d = makeData(m);
   d.devices[0].released = true;
-  const DeviceState& s = d.devices[0];
-  const Vec3 along = (s.position.back() - s.position.front()).normalized();
+  // (a step replaces d.devices: read it afresh after each)
+  const std::vector<Vec3>& x0 = d.devices[0].position;
+  const Vec3 along = (x0.back() - x0.front()).normalized();
   const Vec3 across = along.unitOrthogonal();
   const double theta = M_PI / 6.0;  // gravity 30 degrees off the axis
   m.gravity = kG * (std::cos(theta) * along + std::sin(theta) * across);
@@ -63,12 +64,13 @@ TEST(BloodDrag, ARodSinksAtSlenderBodyTheorysTerminalVelocityAlongAndAcrossItsAx
   // tau of 1 %), then the terminal velocity after 3 s (13 tau along).
   const double t1 = 0.1;
   for (int k = 0; k < 100; ++k) ASSERT_EQ(step(m, &d), StepStatus::kOk) << d.last_error;
-  const double v_across_t1 = meanVelocity(s).dot(across);
+  const double v_across_t1 = meanVelocity(d.devices[0]).dot(across);
   const double terminal_across = per_length * kG * std::sin(theta) / c_across;
   const double terminal_along = per_length * kG * std::cos(theta) / c_along;
   const double expected_t1 = terminal_across * (1.0 - std::exp(-t1 / tau_across));
   EXPECT_NEAR(v_across_t1, expected_t1, 0.015 * expected_t1);
   for (int k = 100; k < 3000; ++k) ASSERT_EQ(step(m, &d), StepStatus::kOk) << d.last_error;
+  const DeviceState& s = d.devices[0];
   const Vec3 v = meanVelocity(s);
   std::printf(
       "[ metric   ] rod in blood (mu %.1e Pa s, L/a %.0f): terminal velocity along %.6f m/s "
