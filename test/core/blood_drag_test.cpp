@@ -86,7 +86,7 @@ TEST(BloodDrag, ARodSinksAtSlenderBodyTheorysTerminalVelocityAlongAndAcrossItsAx
 }
 
 TEST(BloodDrag, ARodThatIsNotSlenderGetsABoundedDrag) {
-  // ln(L / a) at or below 1 (a stub, a ball): the drag of L / a = e, never
+  // ln(L / a) at or below 1 (a short piece, a ball): the drag of L / a = e, never
   // an infinite or negative one.
   for (double L : {1e-3, 2.718e-3, 1e-4}) {
     EXPECT_DOUBLE_EQ(dragAcross(kMu, L, 1e-3), 4.0 * M_PI * kMu) << L;

@@ -9,7 +9,7 @@ namespace evsim {
 
 namespace {
 
-/// ln(L / a), at least 1: the theory is for slender rods; a stub of a
+/// ln(L / a), at least 1: the theory is for slender rods; a short piece of a
 /// device (L / a below e) gets the drag of one at L / a = e, not an
 /// unbounded one.
 double slenderness(double L, double a) { return std::max(1.0, std::log(L / a)); }
