@@ -130,6 +130,14 @@ std::vector<Setting> sceneSettings(const SceneSpec& base) {
     s.push_back({"penetration_tolerance", v.str(),
                  contact([tol](ContactOptions* o) { o->penetration_tolerance = tol; })});
   }
+  const auto& fx = base.effects;
+  if (std::find(fx.begin(), fx.end(), "device_contact") != fx.end())  // how far surfaces overlap
+    for (double tol : {5e-6, 2e-5}) {
+      std::ostringstream v;
+      v << tol;
+      s.push_back({"pair_tolerance", v.str(),
+                   contact([tol](ContactOptions* o) { o->pair_tolerance = tol; })});
+    }
   for (int loops : {1, 2, 3, 5, 30})
     s.push_back({"activation_loops", std::to_string(loops),
                  contact([loops](ContactOptions* o) { o->max_activation_loops = loops; })});
@@ -138,7 +146,7 @@ std::vector<Setting> sceneSettings(const SceneSpec& base) {
   for (int loops : {1, 3})
     s.push_back({"curvature_loops", std::to_string(loops),
                  contact([loops](ContactOptions* o) { o->curvature_loops = loops; })});
-  const auto& fx = base.effects;  // the lumen's curvature springs: how settled the loop ends
+  // The lumen's curvature springs: how settled the loop ends.
   if (std::find(fx.begin(), fx.end(), "coaxial") != fx.end()) {
     for (double tol : {1e-6, 2e-5}) {  // how far beyond the lumen a point may end
       std::ostringstream v;
@@ -183,6 +191,7 @@ SceneSpec referenceSpec(SceneSpec spec) {
   setElementCount(&spec, 2 * elementCount(spec));
   spec.contact.lcp.solver = LcpSolver::kStatusMethod;
   spec.contact.penetration_tolerance = 1e-8;
+  spec.contact.pair_tolerance = 0.0;  // (the wall's)
   spec.contact.lumen_tolerance = 1e-8;
   spec.contact.max_activation_loops = 50;
   spec.contact.max_subdivisions = 8;

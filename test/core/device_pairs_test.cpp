@@ -261,10 +261,11 @@ TEST(DevicePairs, GridSearchFindsExactlyTheBruteForcePairs) {
 }
 
 TEST(DevicePairs, CandidatesKeptFromPassToPassFindTheBruteForcePairs) {
-  // The activation loop's passes within a step move the elements a little:
-  // the candidates built at one pass (boxes grown by a skin) are reused
-  // while every element's box stays within its grown box, else rebuilt.
-  // Either way the pairs equal the brute force's at each pass.
+  // The activation loop's passes, and the steps, move the elements a
+  // little: the candidates built at one pass (boxes grown by a skin) are
+  // reused while every element is free or held as there and its box stays
+  // within its grown box, else rebuilt. Either way the pairs equal the
+  // brute force's at each pass.
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0), jitter(-1.0, 1.0);
   int found = 0;
@@ -277,28 +278,35 @@ TEST(DevicePairs, CandidatesKeptFromPassToPassFindTheBruteForcePairs) {
       devices.push_back(randomChain(150, 5e-4, 3e-3, &rng, &x[device]));
       for (int e = 0; e + 1 < 150; ++e) points.push_back({e, 0.0, 1e-4 + 5e-5 * u(rng), 0.0});
     }
-    auto elementsAt = [&](const std::vector<DeviceState>& at) {
+    // The first 20 elements of each chain held (as in an introducer), or none.
+    auto elementsAt = [&](const std::vector<DeviceState>& at, int held) {
       std::vector<ElementRef> els;
       for (int device = 0; device < 2; ++device)
         for (int e = 0; e + 1 < 150; ++e)
-          els.push_back(elementRef(devices[device], at[device], device, points[149 * device + e]));
+          els.push_back(
+              elementRef(devices[device], at[device], device, points[149 * device + e], e >= held));
       return els;
     };
     candidates.reach = -1.0;  // a new step
     const int builds = candidates.builds, reuses = candidates.reuses;
-    // Built here, then nodes moved by up to 0.2 and 5 skins.
-    for (double moved : {0.0, 0.2, 5.0}) {
+    // Built here, then nodes moved by up to 0.2 and 5 skins; then, where
+    // they are, the held elements set free (pairs of two held elements are
+    // no candidates: the list must be rebuilt).
+    std::vector<DeviceState> at = x;
+    for (double moved : {0.0, 0.2, 5.0, -1.0}) {
       SCOPED_TRACE("trial " + std::to_string(trial) + " moved " + std::to_string(moved));
-      std::vector<DeviceState> at = x;
-      for (DeviceState& state : at)
-        for (Vec3& p : state.position)
-          p += moved * candidates.skin / std::sqrt(3.0) *
-               Vec3(jitter(rng), jitter(rng), jitter(rng));
-      const std::vector<ElementRef> els = elementsAt(at);
+      if (moved >= 0.0) {
+        at = x;
+        for (DeviceState& state : at)
+          for (Vec3& p : state.position)
+            p += moved * candidates.skin / std::sqrt(3.0) *
+                 Vec3(jitter(rng), jitter(rng), jitter(rng));
+      }
+      const std::vector<ElementRef> els = elementsAt(at, moved >= 0.0 ? 20 : 0);
       found += expectSamePairs(pairs::findPairs(devices, at, els, 0.0, nullptr, true, &candidates),
                                bruteForcePairs(devices, at, els, 0.0));
     }
-    EXPECT_EQ(candidates.builds - builds, 2);  // here and after 5 skins
+    EXPECT_EQ(candidates.builds - builds, 3);  // here, after 5 skins, once the held ones are free
     EXPECT_EQ(candidates.reuses - reuses, 1);  // after 0.2 skins
   }
   EXPECT_GT(found, 500);

@@ -78,6 +78,18 @@ TEST_F(Loader, LumenSettleIsReadAndChecked) {
       "scene.yaml", 4, "contact.lumen_settle", "must lie in [1e-4, 1], got 2");
 }
 
+TEST_F(Loader, PairToleranceIsReadAndChecked) {
+  write("wire.urdf", kDevice);
+  std::string text = kScene;
+  text.replace(text.find("effects: [gravity]\n"), 19,
+               "effects: [gravity]\ncontact: {pair_tolerance: 5.0e-6}\n");
+  EXPECT_EQ(loadSceneFile(write("scene.yaml", text)).contact.pair_tolerance, 5e-6);
+  EXPECT_EQ(loadSceneFile(write("plain.yaml", kScene)).contact.pair_tolerance, 0.0);
+  expectNames(
+      sceneError("effects: [gravity]\n", "effects: [gravity]\ncontact: {pair_tolerance: 0.001}\n"),
+      "scene.yaml", 4, "contact.pair_tolerance", "must lie in [0, 1e-4] m, got 0.001");
+}
+
 TEST_F(Loader, MissingFieldIsNamed) {
   expectNames(deviceError("young_modulus=\"6e10\" ", ""), "wire.urdf", 15,
               "evsim_section[shaft]/young_modulus", "is missing");

@@ -15,6 +15,7 @@
 #include <functional>
 #include <limits>
 
+#include "../core/self_overlap_check.h"
 #include "contact/device_pairs.h"
 #include "endovascular_sim/contact/coaxial.h"
 #include "endovascular_sim/geometry/centerline.h"
@@ -112,35 +113,6 @@ TEST(Stability, CoilDeployedIntoTheAneurysmWithSelfContact) {
   std::printf("[ metric   ] aneurysm: %ld steps press on the dome and on the coil at once\n", both);
 }
 
-/// The deepest overlap [m] of two elements of the coil (the last device)
-/// that are not neighbours (more than 2 (r_a + r_b) plus two element
-/// lengths apart along it, as device pairs count them): the sum of their
-/// radii less the distance of their axes, at its largest (elements whose
-/// boxes, grown by their radii and bows, do not meet are skipped).
-double deepestSelfOverlap(const DeviceModel& m, const DeviceState& x) {
-  const int ne = m.num_nodes - 1;
-  std::vector<Eigen::AlignedBox3d> box(ne);
-  for (int e = 0; e < ne; ++e) {
-    box[e] = pairs::axisBox(m, x, e);
-    box[e].min().array() -= m.node_radius[e];
-    box[e].max().array() += m.node_radius[e];
-  }
-  double deepest = -1.0;
-  for (int i = 0; i < ne; ++i)
-    for (int j = i + 1; j < ne; ++j) {
-      if (!box[i].intersects(box[j])) continue;
-      const double r = m.node_radius[i] + m.node_radius[j];
-      const double le = std::max(m.elements[i].length, m.elements[j].length);
-      double xi = 0.0, xj = 0.0;
-      const double d = pairs::closestAxisPoints(m, x, i, m, x, j, &xi, &xj);
-      const double si = m.node_s[i] + xi * m.elements[i].length;
-      const double sj = m.node_s[j] + xj * m.elements[j].length;
-      if (std::abs(si - sj) <= 2.0 * r + 2.0 * le) continue;
-      deepest = std::max(deepest, r - d);
-    }
-  return deepest;
-}
-
 TEST(Stability, CoilPackedIntoTheAneurysm) {
   // 30 cm of coil at 20 mm/s into the 7 mm dome: by 14.5 s, 29 cm are in
   // and the LCPs hold hundreds of rows (wall and self-contact, largely
@@ -152,7 +124,7 @@ TEST(Stability, CoilPackedIntoTheAneurysm) {
   double deepest = -1.0;
   long at = 0;
   drive("aneurysm_packed", 14500, &o, [&](long k, const SceneModel& model, const SimData& data) {
-    const double d = deepestSelfOverlap(model.devices.back(), data.devices.back());
+    const double d = test::deepestSelfOverlap(model.devices.back(), data.devices.back());
     if (d > deepest) deepest = d, at = k + 1;
   });
   EXPECT_EQ(o.steps, 14500);

@@ -76,6 +76,8 @@ struct ContactOptions {
                                        // f the last step's contact forces, not at x_f
   bool columns_on_demand{true};        // frictionless status method: W's columns formed as it reads
                                        // them, not the whole W (contact/delassus_columns.h)
+  double pair_tolerance{0.0};          // effect 'device_contact': two device surfaces that overlap
+                                       // by more are violated (at least penetration_tolerance) [m]
   double lumen_tolerance{5e-6};        // effect 'coaxial': a point of an inner device beyond its
                                        // outer device's lumen by more is violated [m]
   double lumen_settle{0.1};  // effect 'coaxial': the loop goes on while a point held by the

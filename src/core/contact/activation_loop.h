@@ -114,7 +114,6 @@ struct LoopState {
   std::vector<DelassusBuffer> last_W;              // and its W (reused while the band stays)
   std::vector<VecX> anchor;                        // dq_k: the iterate the loop's QP is about
   std::unique_ptr<pairs::StartAxes> start_axes;    // element pairs: the axes at x_t (on first use)
-  pairs::PairCandidates pair_candidates;           // and their candidates from pass to pass
 };
 
 /// One loop's linear problem: W lambda + q >= 0 (with friction, the

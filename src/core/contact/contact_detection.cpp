@@ -473,7 +473,7 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
     if (o.element_pairs) keepPairs(pb, s);
     const bool passed_through = s->contacts->empty();
     for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, 0.0, stepStartAxes(pb, o, s),
-                                          passed_through, &s->pair_candidates, &s->at_x))
+                                          passed_through, true, &s->at_x))
       if (!s->pair_contact.count(f.key)) addPair(f, s);
     ++st->pair_passes;
     st->pairs_ms += msSince(tp);

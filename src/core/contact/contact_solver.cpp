@@ -32,6 +32,8 @@ std::string validateContactOptions(const ContactOptions& o) {
     why << "penetration_tolerance must lie in [1e-9, 1e-3] m";
   else if (!(o.keep_gap >= 0.0 && o.keep_gap <= 1e-3))
     why << "keep_gap must lie in [0, 1e-3] m";
+  else if (!(o.pair_tolerance >= 0.0 && o.pair_tolerance <= 1e-4))
+    why << "pair_tolerance must lie in [0, 1e-4] m";
   else if (!(o.lumen_tolerance >= 1e-9 && o.lumen_tolerance <= 1e-3))
     why << "lumen_tolerance must lie in [1e-9, 1e-3] m";
   else if (!(o.lumen_settle >= 1e-4 && o.lumen_settle <= 1.0))

@@ -394,9 +394,10 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
   const double reach = std::max(0.0, margin);
   std::vector<Pair> out;
   if (els.empty()) return out;
-  // The candidates of an earlier pass of the step, where every element's
-  // box still lies within its box there grown by the skin: a pair whose
-  // boxes come within reach now came within reach plus twice the skin there.
+  // The candidates of an earlier pass (of this step or an earlier one),
+  // where every element was, free or held as now, and its box still lies
+  // within its box there grown by the skin: a pair whose boxes come within
+  // reach now came within reach plus twice the skin there.
   std::vector<int> now;  // per element when built: its index in els, or -1
   if (candidates && candidates->reach >= reach) {
     now.assign(candidates->box.size(), -1);
@@ -406,7 +407,7 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
       const int k = d < static_cast<int>(slot.size()) && e < static_cast<int>(slot[d].size())
                         ? slot[d][e]
                         : -1;
-      if (k < 0 || !candidates->box[k].contains(els[i].box))
+      if (k < 0 || candidates->free[k] != els[i].free || !candidates->box[k].contains(els[i].box))
         now.clear();
       else
         now[k] = static_cast<int>(i);
@@ -536,10 +537,12 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
     c.slot.assign(devices.size(), {});
     for (size_t d = 0; d < devices.size(); ++d) c.slot[d].assign(devices[d].num_nodes - 1, -1);
     c.box.resize(els.size());
+    c.free.resize(els.size());
     for (size_t i = 0; i < els.size(); ++i) {
       c.slot[els[i].device][els[i].element] = static_cast<int>(i);
       c.box[i] =
           Eigen::AlignedBox3d(els[i].box.min().array() - c.skin, els[i].box.max().array() + c.skin);
+      c.free[i] = els[i].free;
     }
     c.pairs.clear();
     ++c.builds;

@@ -134,15 +134,17 @@ class StartAxes {
   mutable std::vector<std::vector<double>> bow_;  // -1: not yet computed
 };
 
-/// Candidate element pairs kept from pass to pass of one step (a Verlet
-/// list): the pairs whose boxes, grown by a skin, came within reach of each
-/// other where it was built; reused while every element's box stays within
+/// Candidate element pairs kept from pass to pass (a Verlet list): the
+/// pairs whose boxes, grown by a skin, came within reach of each other where
+/// it was built (the pairs of two held elements left out); reused while
+/// every element is free or held as it was there and its box stays within
 /// its box there grown by the skin (device_pairs.cpp).
 struct PairCandidates {
   double skin{0.0};                       // [m]
   double reach{-1.0};                     // the reach it was built for [m] (< 0: none)
   std::vector<std::vector<int>> slot;     // per device and element: its index below, or -1
   std::vector<Eigen::AlignedBox3d> box;   // per element when built: its box grown by the skin
+  std::vector<char> free;                 // and whether it was free
   std::vector<std::array<int, 2>> pairs;  // the candidates (indices above)
   int builds{0}, reuses{0};
 };

@@ -191,6 +191,15 @@ pairs::PointCandidates& keptPointCandidates() {
   return kept;
 }
 
+/// The element pairs' candidates, kept the same way: used only where every
+/// element of the pass was there, as free or held, and its box stays within
+/// its box there grown by the skin (findPairs); with them the axes'
+/// distances last measured, which a pair's travel since bounds.
+pairs::PairCandidates& keptElementCandidates() {
+  thread_local pairs::PairCandidates kept;
+  return kept;
+}
+
 }  // namespace
 
 /// The device pairs at x within `margin` [m]: sample points closer than
@@ -201,7 +210,7 @@ pairs::PointCandidates& keptPointCandidates() {
 std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
                                    const std::vector<DeviceState>& x, double margin,
                                    const pairs::StartAxes* from, bool passed_through,
-                                   pairs::PairCandidates* candidates, SamplePositions* positions) {
+                                   bool keep_candidates, SamplePositions* positions) {
   const auto& samples = *pb.samples;
   std::vector<FoundPair> out;
   auto found = [&](int da, int sa, int ea, int db, int sb, int eb) {
@@ -213,7 +222,7 @@ std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
   if (!element_pairs) {
     const std::vector<PointRef> pts = freePoints(pb, x, positions);
     for (const pairs::PointPair& pr : pairs::findPointPairs(
-             *pb.devices, pts, margin, candidates ? &keptPointCandidates() : nullptr)) {
+             *pb.devices, pts, margin, keep_candidates ? &keptPointCandidates() : nullptr)) {
       const PointRef &a = pts[pr.a], &b = pts[pr.b];
       FoundPair f = found(a.device, a.sample, a.element, b.device, b.sample, b.element);
       f.key = {a.device, a.sample, b.device, b.sample};
@@ -228,8 +237,8 @@ std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
     return out;
   }
   const std::vector<ElementRef> els = pairElements(pb, x, from);
-  for (const Pair& pr :
-       pairs::findPairs(*pb.devices, x, els, margin, from, passed_through, candidates)) {
+  for (const Pair& pr : pairs::findPairs(*pb.devices, x, els, margin, from, passed_through,
+                                         keep_candidates ? &keptElementCandidates() : nullptr)) {
     const ElementRef &a = els[pr.a], &b = els[pr.b];
     FoundPair f = found(a.device, a.sample, a.element, b.device, b.sample, b.element);
     f.key = {a.device, a.element, b.device, b.element};
@@ -292,9 +301,9 @@ const pairs::StartAxes* stepStartAxes(const ContactProblem& pb, const ContactOpt
 
 bool redetectPairs(const ContactProblem& pb, const ContactOptions& o, LoopState* s) {
   bool solved = true;
-  for (const FoundPair& f :
-       devicePairs(pb, o.element_pairs, s->x, -o.penetration_tolerance, stepStartAxes(pb, o, s),
-                   true, &s->pair_candidates, &s->at_x)) {
+  const double tolerance = std::max(o.penetration_tolerance, o.pair_tolerance);
+  for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, -tolerance,
+                                        stepStartAxes(pb, o, s), true, true, &s->at_x)) {
     solved = false;
     const auto it = s->pair_contact.find(f.key);
     if (it != s->pair_contact.end() && !s->updated[it->second]) {

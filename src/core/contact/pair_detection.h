@@ -25,15 +25,14 @@ struct FoundPair {
 /// The device pairs at x within `margin` [m] (see pair_detection.cpp);
 /// with element pairs and the axes at the step's start `from`, also those
 /// that crossed since: the ones overlapping at x, and with `passed_through`
-/// those apart there too (device_pairs.h). `candidates`: element pairs'
-/// candidates kept from an earlier pass of the step (device_pairs.h); given,
-/// sample points' candidates are kept too (pair_detection.cpp). `positions`:
-/// the sample points at x, when the pass has them.
+/// those apart there too (device_pairs.h). `keep_candidates`: the pairs'
+/// candidates (of elements or of sample points) kept from pass to pass and
+/// from step to step (pair_detection.cpp). `positions`: the sample points
+/// at x, when the pass has them.
 std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
                                    const std::vector<DeviceState>& x, double margin,
                                    const pairs::StartAxes* from = nullptr,
-                                   bool passed_through = true,
-                                   pairs::PairCandidates* candidates = nullptr,
+                                   bool passed_through = true, bool keep_candidates = false,
                                    SamplePositions* positions = nullptr);
 
 /// The axes at the step's start for element pairs' swept test, computed on
@@ -52,9 +51,10 @@ void keepPairs(const ContactProblem& pb, LoopState* s);
 /// A new pair contact in the loop's contacts.
 void addPair(const FoundPair& f, LoopState* s);
 
-/// Device pairs closer than the sum of their radii less the tolerance at
-/// the loop's x: a pair's points and normal moved to where they are at x
-/// once a step, or a new pair. Returns false when there is one.
+/// Device pairs closer than the sum of their radii less the tolerance
+/// (options.pair_tolerance, at least penetration_tolerance) at the loop's
+/// x: a pair's points and normal moved to where they are at x once a step,
+/// or a new pair. Returns false when there is one.
 bool redetectPairs(const ContactProblem& pb, const ContactOptions& o, LoopState* s);
 
 }  // namespace evsim::activation

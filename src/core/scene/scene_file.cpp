@@ -157,6 +157,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
           "contact_spacing",
           "penetration_tolerance",
           "keep_gap",
+          "pair_tolerance",
           "lumen_tolerance",
           "root_tolerance",
           "wall_curvature",
@@ -192,6 +193,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   o.penetration_tolerance =
       r.number(n, "penetration_tolerance", "contact.", o.penetration_tolerance);
   o.keep_gap = r.number(n, "keep_gap", "contact.", o.keep_gap);
+  o.pair_tolerance = r.number(n, "pair_tolerance", "contact.", o.pair_tolerance);
   o.root.tolerance = r.number(n, "root_tolerance", "contact.", o.root.tolerance);
   auto flag = [&](const char* key, bool fallback) {
     if (!n[key]) return fallback;

@@ -202,6 +202,12 @@ std::vector<SchemaEntry> makeSchema() {
           .unit("m")
           .def("0")
           .in("[]", 0.0, 1e-3),
+      Key("contact.pair_tolerance", T::kNumber,
+          "effect 'device_contact': two device surfaces that overlap by more are violated (at "
+          "least penetration_tolerance; docs/performance.md)")
+          .unit("m")
+          .def("0")
+          .in("[]", 0.0, 1e-4),
       Key("contact.root_tolerance", T::kNumber, "the first root's position")
           .unit("m")
           .def("1e-11")
