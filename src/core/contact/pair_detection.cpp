@@ -192,9 +192,9 @@ pairs::PointCandidates& keptPointCandidates() {
 }
 
 /// The element pairs' candidates, kept the same way: used only where every
-/// element of the pass was there, as free or held, and its box stays within
-/// its box there grown by the skin (findPairs); with them the axes'
-/// distances last measured, which a pair's travel since bounds.
+/// element of the pass was there, free or held as now, and its box stays
+/// within its box there grown by the skin (findPairs): the pairs found are
+/// those of a full search.
 pairs::PairCandidates& keptElementCandidates() {
   thread_local pairs::PairCandidates kept;
   return kept;
