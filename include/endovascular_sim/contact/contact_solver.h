@@ -186,7 +186,8 @@ struct ContactProblem {
   std::vector<std::vector<InteriorBall>>* interior{nullptr};
   /// When set, receives x_t (+) the step's dq, the configuration the loop
   /// ended at (what commitMotion makes of *start with each workspace's dq,
-  /// to the bit): the caller need not move the devices again.
+  /// to the bit): the caller need not move the devices again. What it held
+  /// before serves as storage for the loop's iterates.
   std::vector<DeviceState>* end{nullptr};
 };
 

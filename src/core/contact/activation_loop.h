@@ -102,10 +102,10 @@ struct LoopState {
   SamplePositions at_start;    // the points at x_t
   SamplePositions at_x;        // and at x (reset with it)
   std::vector<Contact>* contacts;
-  std::vector<std::vector<int>> contact_of;         // per device, sample -> contact or -1
-  std::map<std::array<int, 4>, int> pair_contact;   // (device, element, device, element) -> contact
-  std::map<std::array<int, 2>, int> lumen_contact;  // (device, sample) -> contact
-  std::vector<char> updated;  // per contact: plane already updated in this step
+  std::vector<std::vector<int>> contact_of;        // per device, sample -> contact or -1
+  std::map<std::array<int, 4>, int> pair_contact;  // (device, element, device, element) -> contact
+  std::vector<std::vector<int>> lumen_of;  // per inner device, sample -> lumen contact or -1
+  std::vector<char> updated;               // per contact: plane already updated in this step
   // The wall's curvature and W's storage:
   std::vector<Band> band;                          // what ws[d].inverse holds
   std::vector<CurvatureTerm> curvature;            // C per device, kept once no longer updated
@@ -114,6 +114,9 @@ struct LoopState {
   std::vector<DelassusBuffer> last_W;              // and its W (reused while the band stays)
   std::vector<VecX> anchor;                        // dq_k: the iterate the loop's QP is about
   std::unique_ptr<pairs::StartAxes> start_axes;    // element pairs: the axes at x_t (on first use)
+
+  /// The lumen contact of sample k of device d, or -1.
+  int lumenContactOf(int d, int k) const { return lumen_of[d].empty() ? -1 : lumen_of[d][k]; }
 };
 
 /// One loop's linear problem: W lambda + q >= 0 (with friction, the
@@ -147,9 +150,26 @@ struct LoopSystem {
 /// increments (the held ones' are the drive's, those of the free motion):
 /// once x holds the held nodes, only the free nodes are moved again.
 void placeIterate(const ContactProblem& pb, LoopState* s);
-/// True when sample point s of device d takes part in contacts: it moves
-/// with a free node and does not lie inside the element cut by a detachment.
-bool takesPart(const ContactProblem& pb, size_t d, const SamplePoint& s);
+/// Which sample points of one device take part in contacts: those that
+/// move with a free node and do not lie inside the element cut by a
+/// detachment. The device's two numbers are read once for a loop over its
+/// points (a call per point that read them through the problem's vectors
+/// was 4 % of a coaxial step).
+struct TakingPart {
+  int first_free_node;
+  int cut_element;  // -1: none
+  bool operator()(const SamplePoint& s) const {
+    if (s.element == cut_element && s.xi > 0.0) return false;
+    return s.xi == 0.0 ? s.element >= first_free_node : s.element + 1 >= first_free_node;
+  }
+};
+inline TakingPart takingPart(const ContactProblem& pb, size_t d) {
+  return {(*pb.workspaces)[d].first_free_node, (*pb.start)[d].cut_element};
+}
+/// True when sample point s of device d takes part in contacts (TakingPart).
+inline bool takesPart(const ContactProblem& pb, size_t d, const SamplePoint& s) {
+  return takingPart(pb, d)(s);
+}
 /// True for a point of a detached part (a coil cut from its pusher).
 bool detached(const DeviceState& x, const SamplePoint& s);
 /// Unit tangent of the device axis at a sample point.
@@ -179,12 +199,11 @@ bool redetect(const ContactProblem& pb, const ContactOptions& o, fields::SampleF
 /// into another lumen; each gets the exit's plane. Returns true when none.
 bool checkTunnels(const ContactProblem& pb, const ContactOptions& o, fields::SampleFields* field,
                   LoopState* s, ContactStats* st);
-/// The paper's detection on [x_t, x] (the first loop after kept contacts).
-/// Returns true when a point beyond the wall has no plane.
-bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState>& x,
-                         const RootOptions& root, fields::SampleFields* field,
-                         SamplePositions* at_start, std::vector<Contact>* contacts,
-                         std::vector<std::vector<int>>* contact_of);
+/// The paper's detection on [x_t, x], x the loop's iterate s->x (its
+/// points from s->at_x), into s->contacts (the first loop after kept
+/// contacts). Returns true when a point beyond the wall has no plane.
+bool detectWallCrossings(const ContactProblem& pb, const RootOptions& root,
+                         fields::SampleFields* field, LoopState* s);
 
 // --- contact_system.cpp -----------------------------------------------------
 

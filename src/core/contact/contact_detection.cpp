@@ -45,23 +45,6 @@ void placeIterate(const ContactProblem& pb, LoopState* s) {
   s->at_x.reset(pb, &s->x);
 }
 
-namespace {
-
-/// True when the sample point moves with at least one free node.
-bool isFree(const SamplePoint& s, int first_free) {
-  if (s.xi == 0.0) return s.element >= first_free;
-  return s.element + 1 >= first_free;
-}
-
-}  // namespace
-
-/// True when the sample point of device d takes part in contacts: it moves
-/// with a free node and does not lie inside the element cut by a detachment.
-bool takesPart(const ContactProblem& pb, size_t d, const SamplePoint& s) {
-  if (s.element == (*pb.start)[d].cut_element && s.xi > 0.0) return false;
-  return isFree(s, (*pb.workspaces)[d].first_free_node);
-}
-
 /// True for a point of a detached part (a coil cut from its pusher): it has
 /// left its outer device for good, so no lumen holds it.
 bool detached(const DeviceState& x, const SamplePoint& s) {
@@ -152,9 +135,10 @@ std::vector<LumenViolation> lumenViolations(const ContactProblem& pb,
     int element = -1;
     size_t first_of_element = 0;  // the element's first entry in out
     OuterAxisCache outer_axis;
+    const TakingPart taking = takingPart(pb, d);
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& s = samples[d][k];
-      if (!takesPart(pb, d, s) || detached(x[d], s)) continue;
+      if (!taking(s) || detached(x[d], s)) continue;
       if (surelyWithinLumen(devices[d], x[d], s, devices[outer], x[outer], tolerance, &outer_axis))
         continue;
       const LumenLocation loc = locateInLumen(devices[d], x[d], s, devices[outer], x[outer]);
@@ -199,10 +183,12 @@ Contact lumenContact(const LumenViolation& v, int outer) {
 /// ranks the others for one evaluation each. Returns true when a point
 /// beyond the wall has no plane (beyond every vessel's support: the step
 /// cannot be solved).
-bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState>& xf,
-                         const RootOptions& root, SampleFields* field, SamplePositions* at_start,
-                         std::vector<Contact>* contacts,
-                         std::vector<std::vector<int>>* contact_of) {
+bool detectWallCrossings(const ContactProblem& pb, const RootOptions& root, SampleFields* field,
+                         LoopState* ls) {
+  SamplePositions* at_start = &ls->at_start;
+  SamplePositions* at_x = &ls->at_x;
+  std::vector<Contact>* contacts = ls->contacts;
+  std::vector<std::vector<int>>* contact_of = &ls->contact_of;
   const auto& devices = *pb.devices;
   const auto& samples = *pb.samples;
   const ImplicitSurface& surface = *pb.surface;
@@ -229,12 +215,12 @@ bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState
       SurfacePoint hit;  // (not yet searched when !hit.hit)
     } best;
     int element = -1;
+    const TakingPart taking = takingPart(pb, d);
     auto flush = [&]() {
       if (best.sample < 0) return;
-      const SamplePoint& s = samples[d][best.sample];
       if (!best.hit.hit)
-        best.hit = crossing(d, best.sample, at_start->at(d, best.sample),
-                            samplePosition(devices[d], xf[d], s), nullptr);
+        best.hit = crossing(d, best.sample, at_start->at(d, best.sample), at_x->at(d, best.sample),
+                            nullptr);
       if (best.hit.hit) {
         (*contact_of)[d][best.sample] = static_cast<int>(contacts->size());
         contacts->push_back(
@@ -248,9 +234,9 @@ bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState
         flush();
         element = s.element;
       }
-      if (!takesPart(pb, d, s)) continue;
+      if (!taking(s)) continue;
       const Vec3& p0 = at_start->at(d, k);
-      const Vec3 p1 = samplePosition(devices[d], xf[d], s);
+      const Vec3& p1 = at_x->at(d, k);
       if (field->startInside(d, k, p0, p1, s.radius, pb.motion)) continue;
       if ((*contact_of)[d][k] >= 0) continue;  // a contact already (kept from the last step)
       const FieldSample& g1 = field->end(d, k, p1, s.radius, pb.motion);
@@ -272,7 +258,7 @@ bool detectWallCrossings(const ContactProblem& pb, const std::vector<DeviceState
 namespace {
 
 void addLumen(const ContactProblem& pb, const LumenViolation& v, LoopState* s) {
-  s->lumen_contact[{v.device, v.sample}] = static_cast<int>(s->contacts->size());
+  s->lumen_of[v.device][v.sample] = static_cast<int>(s->contacts->size());
   s->contacts->push_back(lumenContact(v, outerOf(pb, v.device)));
 }
 
@@ -304,8 +290,7 @@ void detectLumenContacts(const ContactProblem& pb, double touching, LoopState* s
       if (!keptLumenContact(pb, prev, touching)) continue;
       const int d = prev.device, k = prev.sample, outer = prev.other_device;
       const SamplePoint& sp = samples[d][k];
-      if (s->lumen_contact.count({d, k}) || !takesPart(pb, d, sp) || detached(start[d], sp))
-        continue;
+      if (s->lumenContactOf(d, k) >= 0 || !takesPart(pb, d, sp) || detached(start[d], sp)) continue;
       const LumenViolation v{d, k,
                              locateInLumen(devices[d], start[d], sp, devices[outer], start[outer])};
       if (!v.location.inside || v.location.across.norm() == 0.0) continue;
@@ -356,9 +341,10 @@ bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFiel
   const RootOptions& root = o.root;
   bool solved = true;
   for (size_t d = 0; d < devices.size(); ++d) {
+    const TakingPart taking = takingPart(pb, d);
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& sp = samples[d][k];
-      if (!takesPart(pb, d, sp)) continue;
+      if (!taking(sp)) continue;
       const Vec3& p = s->at_x.at(d, k);
       double depth_bound = 0.0;
       if (field->endWithinTolerance(d, k, p, sp.radius, pb.motion, o.penetration_tolerance,
@@ -416,15 +402,15 @@ bool redetectLumen(const ContactProblem& pb, const ContactOptions& o, LoopState*
   for (const LumenViolation& v : lumenViolations(pb, s->x, o.lumen_tolerance)) {
     solved = false;
     *deepest = std::max(*deepest, v.location.excess());
-    const auto it = s->lumen_contact.find({v.device, v.sample});
-    if (it != s->lumen_contact.end() && !s->updated[it->second]) {
+    const int existing = s->lumenContactOf(v.device, v.sample);
+    if (existing >= 0 && !s->updated[existing]) {
       const Contact fresh = lumenContact(v, outerOf(pb, v.device));
-      Contact& ct = (*s->contacts)[it->second];
+      Contact& ct = (*s->contacts)[existing];
       ct.point = fresh.point;
       ct.normal = fresh.normal;
       ct.other = fresh.other;
       ct.separation = fresh.separation;
-      s->updated[it->second] = 1;
+      s->updated[existing] = 1;
     } else {
       addLumen(pb, v, s);
       s->updated.push_back(0);
@@ -452,14 +438,11 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
   // contacts in the first loop anyway (options.detect_on_first_iterate).
   *detect_later = o.detect_on_first_iterate && pb.surface && hasKeptWallContacts(pb, keptWithin(o));
   // A point beyond the wall where no plane can be found.
-  bool stranded =
-      pb.surface && !*detect_later &&
-      detectWallCrossings(pb, s->x, root, field, &s->at_start, s->contacts, &s->contact_of);
+  bool stranded = pb.surface && !*detect_later && detectWallCrossings(pb, root, field, s);
   keepWallContacts(pb, root, keptWithin(o), field, &s->at_start, s->contacts, &s->contact_of);
   if (*detect_later && s->contacts->empty()) {  // no kept contact found its plane
     *detect_later = false;
-    stranded =
-        detectWallCrossings(pb, s->x, root, field, &s->at_start, s->contacts, &s->contact_of);
+    stranded = detectWallCrossings(pb, root, field, s);
   }
   // Device points closer than the sum of their radii at x_f (element pairs
   // that crossed on the way there held from where they first touched).
@@ -515,9 +498,10 @@ bool checkTunnels(const ContactProblem& pb, const ContactOptions& o, SampleField
   const auto& samples = *pb.samples;
   bool none = true;
   for (size_t d = 0; d < devices.size() && pb.surface; ++d) {
+    const TakingPart taking = takingPart(pb, d);
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& sp = samples[d][k];
-      if (!takesPart(pb, d, sp)) continue;
+      if (!taking(sp)) continue;
       const Vec3& p0 = s->at_start.at(d, k);
       const Vec3& p = s->at_x.at(d, k);
       if (field->chordInside(d, k, p0, p)) continue;

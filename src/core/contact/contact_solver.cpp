@@ -58,6 +58,9 @@ LoopState::LoopState(const ContactProblem& pb, std::vector<Contact>* contact_lis
   at_start.reset(pb, pb.start);
   contact_of.resize(nd);
   for (size_t d = 0; d < nd; ++d) contact_of[d].assign((*pb.samples)[d].size(), -1);
+  lumen_of.resize(nd);  // (for inner devices only)
+  for (size_t d = 0; d < nd; ++d)
+    if (outerOf(pb, d) >= 0) lumen_of[d].assign((*pb.samples)[d].size(), -1);
   band.assign(nd, Band::kNone);
   curved.assign(nd, 0);
   last_rows.resize(nd);
@@ -176,8 +179,7 @@ bool loopSolved(const ContactProblem& pb, const ContactOptions& o, int loop, boo
   const int fresh_from = static_cast<int>(contacts->size());
   bool solved = true;
   if (loop == 1 && detect_later) {
-    detectWallCrossings(pb, s->x, o.root, field, &s->at_start, contacts,
-                        &s->contact_of);  // (stranded: below)
+    detectWallCrossings(pb, o.root, field, s);  // (stranded: below)
     s->updated.resize(contacts->size(), 0);
     solved = static_cast<int>(contacts->size()) == fresh_from;
   }
@@ -208,6 +210,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   // --- Detection on [x_t, x_f] ----------------------------------------------
   auto t0 = Clock::now();
   LoopState s(pb, contacts);
+  if (pb.end) s.x.swap(*pb.end);  // its storage, for the iterates (placeIterate)
   // The field at each sample's x_t and at the loop's x, where a certified
   // ball does not spare it. The balls are kept across steps; a moving
   // surface stands still within a step (one snapshot, at the step's end),

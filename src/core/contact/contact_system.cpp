@@ -162,9 +162,12 @@ void prepareFreeMotion(const ContactProblem& pb, const ContactOptions& o, int lo
   for (size_t d = 0; d < nd; ++d) sys->factor[d] = &ws[d].factor;
   // The QP is taken about dq_k: x_t in the first loop, later the last
   // iterate (wall_curvature.h); the lumen's curvature rows too.
-  s->anchor = s->dq;
-  if (loop == 1)
-    for (VecX& a : s->anchor) a.setZero();
+  if (loop == 1) {
+    s->anchor.resize(nd);
+    for (size_t d = 0; d < nd; ++d) s->anchor[d].setZero(s->dq[d].size());
+  } else {
+    s->anchor = s->dq;
+  }
   if (!o.wall_curvature || !pb.surface) return;
   // C from the last loop's forces for the first curvature_loops loops;
   // later loops keep it (and the band of (A + C)^-1): at the answer
@@ -241,6 +244,8 @@ void deviceRows(const std::vector<RowPart>& parts, int first_free_node, int m,
                 std::vector<int>* column_of_row, std::vector<int>* of_device,
                 std::vector<ContactRow>* device_rows) {
   column_of_row->assign(m, -1);  // row -> its column in this device's operator
+  of_device->reserve(parts.size());
+  device_rows->reserve(parts.size());
   for (const RowPart& pt : parts) {
     const Row12& h = pt.h;
     const int offset = 6 * (pt.element - first_free_node);
@@ -328,7 +333,14 @@ void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopS
   sys->q.resize(m);
   sys->mu.resize(o.friction ? sys->c : 0);
   if (o.friction) sys->tangents.resize(sys->c);
-  std::vector<std::vector<RowPart>> parts(nd);
+  // The rows' parts per device; their storage is kept from loop to loop
+  // (per thread, as the loops of one step run on one).
+  thread_local std::vector<std::vector<RowPart>> parts;
+  parts.resize(std::max(parts.size(), nd));
+  for (size_t d = 0; d < nd; ++d) {
+    parts[d].clear();
+    parts[d].reserve(2 * m + 2);
+  }
   formRows(pb, o, *s, sys, &parts);
   addLumenSprings(pb, o, *s, sys, &parts);  // rows m, m + 1, ...: eliminated below
   const int rows = m + static_cast<int>(sys->springs.size());
@@ -431,7 +443,7 @@ void restartAtFreeMotion(const ContactProblem& pb, LoopState* s) {
   s->contacts->clear();
   for (auto& of : s->contact_of) std::fill(of.begin(), of.end(), -1);
   s->pair_contact.clear();
-  s->lumen_contact.clear();
+  for (auto& of : s->lumen_of) std::fill(of.begin(), of.end(), -1);
 }
 
 void correctMotion(const ContactProblem& pb, const ContactOptions& o, const LoopSystem& sys,

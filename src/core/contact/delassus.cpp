@@ -72,6 +72,7 @@ using Part = ChainPart;
 /// second (as `lo` on free node 0), a part with both held is dropped.
 std::vector<Part> sortedParts(const std::vector<ContactRow>& rows, int blocks) {
   std::vector<Part> unsorted;
+  unsorted.reserve(2 * rows.size());
   std::vector<int> start(blocks + 1, 0);  // parts before each node
   for (size_t r = 0; r < rows.size(); ++r)
     for (int k = 0; k < rows[r].parts; ++k) {

@@ -39,12 +39,15 @@ namespace evsim::activation {
 
 namespace {
 
-/// h . v over the free nodes of the element (held nodes do not move).
-double freeDot(const RowPart& p, const VecX& v, int first_free_node) {
+/// h . (a - b) over the free nodes of the element (held nodes do not
+/// move); the difference is taken on the element's two nodes only.
+double freeDot(const RowPart& p, const VecX& a, const VecX& b, int first_free_node) {
   double sum = 0.0;
-  for (int node = 0; node < 2; ++node)
-    if (p.element + node >= first_free_node)
-      sum += p.h.segment<6>(6 * node).dot(v.segment<6>(6 * (p.element + node)));
+  for (int node = 0; node < 2; ++node) {
+    if (p.element + node < first_free_node) continue;
+    const int at = 6 * (p.element + node);
+    sum += p.h.segment<6>(6 * node).dot(a.segment<6>(at) - b.segment<6>(at));
+  }
   return sum;
 }
 
@@ -53,6 +56,7 @@ double freeDot(const RowPart& p, const VecX& v, int first_free_node) {
 void addLumenSprings(const ContactProblem& pb, const ContactOptions& o, const LoopState& s,
                      LoopSystem* sys, std::vector<std::vector<RowPart>>* parts) {
   sys->springs.clear();
+  sys->springs.reserve(sys->c);
   if (!o.wall_curvature) {
     sys->e.resize(0);
     return;
@@ -87,8 +91,7 @@ void addLumenSprings(const ContactProblem& pb, const ContactOptions& o, const Lo
     for (int k = 0; k < 2; ++k) {
       const int d = spring.device[k];
       (*parts)[d].push_back(spring.part[k]);
-      sys->e(j) +=
-          freeDot(spring.part[k], s.anchor[d] - sys->dq_step[d], spring.first_free_node[k]);
+      sys->e(j) += freeDot(spring.part[k], s.anchor[d], sys->dq_step[d], spring.first_free_node[k]);
     }
   }
 }
@@ -136,7 +139,7 @@ bool lumenSpringsSettled(const LoopSystem& sys, const LoopState& s, double settl
     double slide = 0.0;
     for (int k = 0; k < 2; ++k) {
       const int d = spring.device[k];
-      slide += freeDot(spring.part[k], s.dq[d] - s.anchor[d], spring.first_free_node[k]);
+      slide += freeDot(spring.part[k], s.dq[d], s.anchor[d], spring.first_free_node[k]);
     }
     if (std::abs(slide) > settle * spring.rho) return false;
   }

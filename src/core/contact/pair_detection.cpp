@@ -42,10 +42,11 @@ std::vector<PointRef> freePoints(const ContactProblem& pb, const std::vector<Dev
   for (size_t d = 0; d < devices.size(); ++d) {
     free[d].resize(samples[d].size());
     at[d].resize(samples[d].size());
+    const TakingPart taking = takingPart(pb, d);
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& sp = samples[d][k];
       rmax = std::max(rmax, sp.radius);
-      free[d][k] = takesPart(pb, d, sp);
+      free[d][k] = taking(sp);
       if (!free[d][k] || (sp.element == x[d].cut_element && sp.xi > 0.0)) continue;
       at[d][k] = position(d, k);
       box.extend(at[d][k]);

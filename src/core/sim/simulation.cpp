@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <limits>
 #include <sstream>
 
@@ -97,9 +98,23 @@ void addResults(const ContactStats& c, StepStats* s) {
   s->on_demand_loops += c.on_demand_loops;
 }
 
-/// One (sub-)step of length dt from data->devices; on success the new states.
+/// Device states a (sub-)step at one depth of halving works in: the new
+/// states and where the contact solver ended. Kept per thread and depth, so
+/// that a step copies into storage of the right size instead of allocating
+/// it (a deque: a deeper halving adds buffers without moving these).
+struct StepBuffers {
+  std::vector<DeviceState> next, moved;
+};
+StepBuffers& stepBuffers(int depth) {
+  thread_local std::deque<StepBuffers> buffers;
+  while (static_cast<int>(buffers.size()) <= depth) buffers.emplace_back();
+  return buffers[depth];
+}
+
+/// One (sub-)step of length dt from data->devices; on success the new
+/// states in *next. *moved: storage for where the contact solver ends.
 StepStatus subStep(const SceneModel& model, SimData* data, double dt,
-                   std::vector<DeviceState>* next) {
+                   std::vector<DeviceState>* next, std::vector<DeviceState>* moved) {
   *next = data->devices;
   for (size_t i = 0; i < model.devices.size(); ++i) {
     advanceDrive(data->commands[i], model.devices[i], dt, &(*next)[i],
@@ -120,7 +135,8 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
   }
   std::vector<Contact> previous;  // the last (sub-)step's contacts: persisting planes
   previous.swap(data->contacts);
-  std::vector<DeviceState> moved;  // x_t (+) dq, where the contact solver ended
+  // x_t (+) dq, where the contact solver ended (it takes the storage).
+  bool already_moved = false;
   if (model.surface || model.contact.device_contact || model.effects.coaxial) {
     ContactProblem pb;
     pb.previous = &previous;
@@ -130,7 +146,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     pb.samples = &model.samples;
     pb.surface = model.surface.get();
     pb.interior = &data->interior_balls;
-    pb.end = &moved;
+    pb.end = moved;
     if (model.effects.coaxial) pb.outer_of = &model.outer_of;
     if (model.effects.vessel_motion) {
       const auto t0 = Clock::now();
@@ -155,9 +171,9 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
       return StepStatus::kContactsUnsolved;
     }
     addResults(cs, &data->stats);
+    already_moved = moved->size() == model.devices.size();
   }
-  const bool already_moved = moved.size() == model.devices.size();
-  if (already_moved) next->swap(moved);  // the same numbers commitMotion would compute
+  if (already_moved) next->swap(*moved);  // the same numbers commitMotion would compute
   for (size_t i = 0; i < model.devices.size(); ++i) {
     if (already_moved)
       setStepVelocities(data->workspaces[i].dq, dt, &(*next)[i]);
@@ -176,8 +192,9 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
 /// halves, recursively up to the subdivision limit. On failure data->devices
 /// is unchanged.
 StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth) {
-  std::vector<DeviceState> next;
-  const StepStatus status = subStep(model, data, dt, &next);
+  StepBuffers& buffers = stepBuffers(depth);
+  std::vector<DeviceState>& next = buffers.next;
+  const StepStatus status = subStep(model, data, dt, &next, &buffers.moved);
   if (status == StepStatus::kOk) {
     data->devices.swap(next);
     data->time += dt;
