@@ -76,10 +76,11 @@ struct OuterAxisCache {
 /// overlap, or within r_lumen - r + allowance of one point of the guessed
 /// outer element's axis (the distance across the axis at the closest point
 /// is no longer). False: not known; locateInLumen tells. It saves the
-/// closest-point search for the points that lie well inside.
+/// closest-point search for the points that lie well inside. `position`:
+/// the point in x_inner when the caller has it (else computed).
 bool surelyWithinLumen(const DeviceModel& inner, const DeviceState& x_inner, const SamplePoint& s,
                        const DeviceModel& outer, const DeviceState& x_outer, double allowance,
-                       OuterAxisCache* cache);
+                       OuterAxisCache* cache, const Vec3* position = nullptr);
 
 /// An inner device at rest in its outer device: held nodes in the sheath,
 /// inserted nodes on the outer device's axis where they overlap, and beyond

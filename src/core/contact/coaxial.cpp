@@ -119,7 +119,7 @@ LumenLocation locateInLumen(const DeviceModel& inner, const DeviceState& x_inner
 
 bool surelyWithinLumen(const DeviceModel& inner, const DeviceState& x_inner, const SamplePoint& s,
                        const DeviceModel& outer, const DeviceState& x_outer, double allowance,
-                       OuterAxisCache* cache) {
+                       OuterAxisCache* cache, const Vec3* position) {
   const int e = guessedOuterElement(inner, x_inner, s, outer, x_outer);
   if (e < 0) return true;  // no lumen holds it
   if (cache->element != e) {
@@ -135,7 +135,7 @@ bool surelyWithinLumen(const DeviceModel& inner, const DeviceState& x_inner, con
   // The point of element e's axis where closestOnElement's search starts:
   // the closest point of the elements searched is no farther, and |across|
   // there is no longer than its distance.
-  const Vec3 p = samplePosition(inner, x_inner, s);
+  const Vec3 p = position ? *position : samplePosition(inner, x_inner, s);
   const double reach = cache->lumen_radius - s.radius + allowance;
   const Vec3 start = cache->axis.at(chordParameter(x_outer, e, p)).position;
   return reach > 0.0 && (p - start).squaredNorm() <= reach * reach;

@@ -123,9 +123,10 @@ struct LumenViolation {
 /// Points of inner devices beyond the lumen by more than `tolerance` at x,
 /// per inner element and side the deepest only (two points are on one side
 /// when their offsets across the lumen's axis lie within 90 degrees: a wire
-/// bent in a curve presses one element on both sides).
+/// bent in a curve presses one element on both sides). `at`: the points at x.
 std::vector<LumenViolation> lumenViolations(const ContactProblem& pb,
-                                            const std::vector<DeviceState>& x, double tolerance) {
+                                            const std::vector<DeviceState>& x, SamplePositions* at,
+                                            double tolerance) {
   const auto& devices = *pb.devices;
   const auto& samples = *pb.samples;
   std::vector<LumenViolation> out;
@@ -139,7 +140,8 @@ std::vector<LumenViolation> lumenViolations(const ContactProblem& pb,
     for (size_t k = 0; k < samples[d].size(); ++k) {
       const SamplePoint& s = samples[d][k];
       if (!taking(s) || detached(x[d], s)) continue;
-      if (surelyWithinLumen(devices[d], x[d], s, devices[outer], x[outer], tolerance, &outer_axis))
+      if (surelyWithinLumen(devices[d], x[d], s, devices[outer], x[outer], tolerance, &outer_axis,
+                            &at->at(static_cast<int>(d), static_cast<int>(k))))
         continue;
       const LumenLocation loc = locateInLumen(devices[d], x[d], s, devices[outer], x[outer]);
       if (!loc.inside || loc.excess() <= tolerance) continue;
@@ -301,7 +303,7 @@ void detectLumenContacts(const ContactProblem& pb, double touching, LoopState* s
     }
   }
   if (kept) return;
-  for (const LumenViolation& v : lumenViolations(pb, s->x, 0.0)) addLumen(pb, v, s);
+  for (const LumenViolation& v : lumenViolations(pb, s->x, &s->at_x, 0.0)) addLumen(pb, v, s);
 }
 
 /// The plane for a point of device d, sample k, found beyond the wall at p
@@ -399,7 +401,7 @@ bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFiel
 bool redetectLumen(const ContactProblem& pb, const ContactOptions& o, LoopState* s,
                    double* deepest) {
   bool solved = true;
-  for (const LumenViolation& v : lumenViolations(pb, s->x, o.lumen_tolerance)) {
+  for (const LumenViolation& v : lumenViolations(pb, s->x, &s->at_x, o.lumen_tolerance)) {
     solved = false;
     *deepest = std::max(*deepest, v.location.excess());
     const int existing = s->lumenContactOf(v.device, v.sample);
