@@ -28,6 +28,12 @@ int lastHeldNode(const DeviceModel& model, double inserted_length);
 /// Pose of a node held straight in the sheath.
 void heldPose(const DeviceModel& model, const Introducer& intro, double inserted_length,
               double rotation_angle, int node, Vec3* position, Mat3* rotation);
+/// heldPose's position [m] and rotation apart; the rotation (for a node of
+/// rest twist `twist` [rad]) is the same for every held node of one twist,
+/// so a loop over them computes it once.
+Vec3 heldPosition(const DeviceModel& model, const Introducer& intro, double inserted_length,
+                  int node);
+Mat3 heldRotation(const Introducer& intro, double rotation_angle, double twist);
 
 /// Device at rest: held nodes in the sheath, inserted material in its rest
 /// shape continuing from the access point.

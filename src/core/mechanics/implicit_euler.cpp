@@ -39,13 +39,21 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
   const int first_free = held + 1;
   ws->dq.setZero(6 * n);
 
-  // Prescribed increments of the held nodes.
+  // Prescribed increments of the held nodes. Their rotations are alike (one
+  // per rest twist, the same increments applied step after step): heldPose's
+  // rotation is formed again only where the twist changes, and the turn's
+  // log only where the node's rotation differs from its neighbour's (the
+  // same numbers as node by node).
+  Mat3 R;
   for (int i = 0; i <= held; ++i) {
-    Vec3 x;
-    Mat3 R;
-    heldPose(model, intro, state.inserted_length, state.rotation_angle, i, &x, &R);
+    const bool new_twist = i == 0 || model.rest_twist[i] != model.rest_twist[i - 1];
+    if (new_twist) R = heldRotation(intro, state.rotation_angle, model.rest_twist[i]);
+    const Vec3 x = heldPosition(model, intro, state.inserted_length, i);
     ws->dq.segment<3>(6 * i) = x - state.position[i];
-    ws->dq.segment<3>(6 * i + 3) = logSO3(R * state.rotation[i].toRotationMatrix().transpose());
+    if (!new_twist && state.rotation[i].coeffs() == state.rotation[i - 1].coeffs())
+      ws->dq.segment<3>(6 * i + 3) = ws->dq.segment<3>(6 * i - 3);
+    else
+      ws->dq.segment<3>(6 * i + 3) = logSO3(R * state.rotation[i].toRotationMatrix().transpose());
   }
 
   // Only the elements with a free node: [held, n - 1) (the element from the

@@ -25,9 +25,18 @@ int lastHeldNode(const DeviceModel& model, double inserted_length) {
 
 void heldPose(const DeviceModel& model, const Introducer& intro, double inserted_length,
               double rotation_angle, int node, Vec3* position, Mat3* rotation) {
+  *position = heldPosition(model, intro, inserted_length, node);
+  *rotation = heldRotation(intro, rotation_angle, model.rest_twist[node]);
+}
+
+Vec3 heldPosition(const DeviceModel& model, const Introducer& intro, double inserted_length,
+                  int node) {
   const double behind = model.length - inserted_length - model.node_s[node];
-  *position = intro.access_point - behind * intro.frame.col(0);
-  *rotation = intro.frame * rotationX(rotation_angle + model.rest_twist[node]);
+  return intro.access_point - behind * intro.frame.col(0);
+}
+
+Mat3 heldRotation(const Introducer& intro, double rotation_angle, double twist) {
+  return intro.frame * rotationX(rotation_angle + twist);
 }
 
 DeviceState placeDevice(const DeviceModel& model, const Introducer& intro, double inserted_length,
