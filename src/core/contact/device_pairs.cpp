@@ -213,6 +213,20 @@ double closestAxisPoints(const DeviceModel& ma, const DeviceState& xa, int ea,
   return closestAxisPoints(HermiteAxis::of(ma, xa, ea), HermiteAxis::of(mb, xb, eb), xi_a, xi_b);
 }
 
+double axisGapBound(const HermiteAxis& a, double bow_a, const HermiteAxis& b, double bow_b) {
+  double s = 0.0, t = 0.0;
+  closestOnSegments(a.p0, a.p1, b.p0, b.p1, &s, &t);
+  const Vec3 across = a.p0 + s * (a.p1 - a.p0) - (b.p0 + t * (b.p1 - b.p0));
+  const double chords = across.norm();
+  const double bound = chords - bow_a - bow_b;
+  if (!(chords > 0.0)) return bound;
+  const Vec3 n = across / chords;
+  const double a0 = n.dot(a.p0), a1 = n.dot(a.p1), b0 = n.dot(b.p0), b1 = n.dot(b.p1);
+  const double a_low = std::min({a0, a1, a0 + n.dot(a.m0) / 3.0, a1 - n.dot(a.m1) / 3.0});
+  const double b_high = std::max({b0, b1, b0 + n.dot(b.m0) / 3.0, b1 - n.dot(b.m1) / 3.0});
+  return std::max(bound, a_low - b_high);
+}
+
 StartAxes::StartAxes(const std::vector<DeviceModel>& devices, const std::vector<DeviceState>& x)
     : devices_(&devices), x_(&x), axis_(devices.size()), bow_(devices.size()) {
   for (size_t d = 0; d < devices.size(); ++d) {
@@ -371,8 +385,9 @@ std::vector<PointPair> findPointPairs(const std::vector<DeviceModel>& devices,
 /// than the sum of their radii plus `margin`: the elements whose boxes
 /// (grown by their radii) come within the margin of each other, from a grid
 /// of their centres (CellRows, cells as wide as the boxes in it, so that
-/// each pair of boxes that can meet is looked at once), then the closest
-/// points of their axes (closestAxisPoints). On one body (a device, or
+/// each pair of boxes that can meet is looked at once), then, where a
+/// lower bound of their axes' distance (axisGapBound) does not rule them
+/// out, the closest points of their axes (closestAxisPoints). On one body (a device, or
 /// either part of a detached one) only points more than 2 (r_a + r_b) plus
 /// two element lengths apart along it count (neighbours along a device
 /// always touch); the pusher's tip and the detached coil's end are two
@@ -381,12 +396,11 @@ std::vector<PointPair> findPointPairs(const std::vector<DeviceModel>& devices,
 /// contact there, not two. Sorted by (device, element) pairs.
 ///
 /// Given the step's start `from`, a pair whose axes moved (ElementRef::sweep
-/// of both) by at least their distance at `from` (its lower bound: the
-/// chords' distance less both bows) gets the swept test: firstTouch on the
-/// path that moves each axis point straight from its place at `from` to its
-/// place at x finds where they first came within the sum of their radii; a
-/// pair that crossed after it is made a contact there (Pair::swept). A
-/// slower pair cannot have crossed: its axes cannot have met.
+/// of both) by at least their distance at `from` (its lower bound,
+/// axisGapBound) gets the swept test: firstTouch on the path that moves
+/// each axis point straight from its place at `from` to its place at x finds where they first came
+/// within the sum of their radii; a pair that crossed after it is made a contact there
+/// (Pair::swept). A slower pair cannot have crossed: its axes cannot have met.
 std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
                             const std::vector<DeviceState>& x, const std::vector<ElementRef>& els,
                             double margin, const StartAxes* from, bool apart_too,
@@ -433,18 +447,7 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
       const double b0 = along(mb, b.element, 0.0), b1 = along(mb, b.element, 1.0);
       if (std::max(std::abs(a1 - b0), std::abs(b1 - a0)) <= exempt) return;
     }
-    // The chords first: axes that stray from them by less than their bows
-    // are at least the chords' distance less both bows apart.
-    auto chordGap = [](const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1) {
-      double s = 0.0, t = 0.0;
-      closestOnSegments(a0, a1, b0, b1, &s, &t);
-      return (a0 + s * (a1 - a0) - (b0 + t * (b1 - b0))).norm();
-    };
-    const auto& xa = x[a.device].position;
-    const auto& xb = x[b.device].position;
-    const double gap =
-        chordGap(xa[a.element], xa[a.element + 1], xb[b.element], xb[b.element + 1]) - a.bow -
-        b.bow;
+    const double gap = axisGapBound(a.axis, a.bow, b.axis, b.bow);
     // A pair whose axes moved relative to each other (at most `speed`: the
     // smaller of both sweeps and their relative shift plus both spreads) by
     // as much as they were apart at the step's start and at x may have met
@@ -457,8 +460,8 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
       from_a = &from->axis(a.device, a.element);
       from_b = &from->axis(b.device, b.element);
       swept = speed > 0.0 && speed >= gap &&
-              speed >= chordGap(from_a->p0, from_a->p1, from_b->p0, from_b->p1) -
-                           from->bow(a.device, a.element) - from->bow(b.device, b.element);
+              speed >= axisGapBound(*from_a, from->bow(a.device, a.element), *from_b,
+                                    from->bow(b.device, b.element));
     }
     if ((!swept || !apart_too) && gap >= ra + rb + margin) return;
     Pair pr{ia, ib, a.point, b.point, Vec3::Zero(), Vec3::Zero(), 0.0};

@@ -101,6 +101,18 @@ double closestAxisPoints(const DeviceModel& ma, const DeviceState& xa, int ea,
                          const DeviceModel& mb, const DeviceState& xb, int eb, double* xi_a,
                          double* xi_b);
 
+/// A lower bound [m] of the distance between two element axes (bows
+/// bow_a, bow_b: HermiteAxis::bow): the chords' distance less both bows,
+/// or, where tighter, their separation along the direction n joining the
+/// chords' closest points. Each axis is a cubic Bezier curve, inside the
+/// convex hull of its control points p0, p0 + m0 / 3, p1 - m1 / 3, p1, so
+/// along n a's points lie beyond the least of its control points' and b's
+/// below the greatest of its own (a separating axis). A coil's turns lying
+/// side by side bow across n, not along it: there the separation is within
+/// micrometres of the axes' distance where the bows are tens of
+/// micrometres, and findPairs spares closestAxisPoints for most of them.
+double axisGapBound(const HermiteAxis& a, double bow_a, const HermiteAxis& b, double bow_b);
+
 /// Where two moving axes first come within `radii` [m] of each other: on
 /// the path that moves each axis point straight from its place on a0 (b0)
 /// to its place on a1 (b1), s from 0 to 1.
