@@ -18,9 +18,12 @@ for scene in carotid carotid_selective carotid_catheter network aneurysm aneurys
 done
 echo "== evsim bench carotid --no-sleep"
 "$evsim" bench carotid --no-sleep | tee "$out/bench_carotid_no_sleep.txt"
-echo "== evsim bench aneurysm_packed --warmup 11000 --steps 3000 --min-rows 300"
-"$evsim" bench aneurysm_packed --warmup 11000 --steps 3000 --min-rows 300 \
-  | tee "$out/bench_aneurysm_packed_300.txt"
+echo "== evsim bench aneurysm_packed --warmup 11000 --steps 3000 --against carotid"
+"$evsim" bench aneurysm_packed --warmup 11000 --steps 3000 --against carotid \
+  | tee "$out/bench_aneurysm_packed_11_14.txt"
+echo "== evsim bench aneurysm_packed --warmup 13000 --steps 1000 --min-rows 300 --against carotid"
+"$evsim" bench aneurysm_packed --warmup 13000 --steps 1000 --min-rows 300 --against carotid \
+  | tee "$out/bench_aneurysm_packed_13_14.txt"
 # The autopilot's procedures from the femoral access (docs/navigation.md):
 # every step, summed up by scripts/step_summary.py.
 for target in left_common_carotid left_subclavian right_common_carotid right_subclavian; do

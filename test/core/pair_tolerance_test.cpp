@@ -3,7 +3,9 @@
 // accuracy costs"). Checked by brute force over the coil's elements.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "endovascular_sim/scene/scene_file.h"
@@ -16,14 +18,19 @@ namespace {
 struct PackedRun {
   double deepest{-1.0};  // overlap of two coil elements after any step [m]
   long loops{0};         // activation loops over the run
+  long rows{0};          // rows of the steps' last LCPs, summed
+  int max_rows{0};
   long steps{0};
 };
 
 /// aneurysm_packed's first 3 s (its coil's turns meet from about 2.3 s) with
-/// the given pair tolerance; the deepest overlap checked after every step.
-PackedRun runPacked(double pair_tolerance) {
+/// the given pair tolerance (and new_pairs_beyond_tolerance, else the
+/// scene's); the deepest overlap checked after every step.
+PackedRun runPacked(double pair_tolerance, std::optional<bool> new_pairs_beyond_tolerance = {}) {
   SceneSpec spec = loadSceneFile(resolveScenePath("aneurysm_packed"));
   spec.contact.pair_tolerance = pair_tolerance;
+  if (new_pairs_beyond_tolerance)
+    spec.contact.new_pairs_beyond_tolerance = *new_pairs_beyond_tolerance;
   const SceneModel model = buildSceneModel(spec);
   SimData data = makeData(model);
   PackedRun run;
@@ -33,6 +40,8 @@ PackedRun runPacked(double pair_tolerance) {
       break;
     }
     run.loops += data.stats.activation_loops;
+    run.rows += data.stats.contacts;
+    run.max_rows = std::max(run.max_rows, data.stats.contacts);
     run.deepest =
         std::max(run.deepest, test::deepestSelfOverlap(model.devices.back(), data.devices.back()));
   }
@@ -55,6 +64,26 @@ TEST(PairTolerance, TheCoilsTurnsOverlapByAtMostTheTolerance) {
       "[ metric   ] aneurysm_packed, 3 s: deepest overlap of two coil elements %.3f um with pairs "
       "at the wall's 1 um, %.3f um at 5 um; activation loops %ld -> %ld\n",
       plain.deepest * 1e6, loose.deepest * 1e6, plain.loops, loose.loops);
+}
+
+// contact.new_pairs_beyond_tolerance: a pair that held no force in the last
+// step becomes a row in the first detection only once it overlaps by more
+// than the tolerance. The turns still end every step within it (brute
+// force), with fewer rows.
+TEST(PairTolerance, NewPairsBeyondTheToleranceEndWithinItOnFewerRows) {
+  const PackedRun touching = runPacked(5e-6, false);
+  const PackedRun beyond = runPacked(5e-6, true);
+  ASSERT_EQ(touching.steps, 3000);
+  ASSERT_EQ(beyond.steps, 3000);
+  EXPECT_LE(touching.deepest, 5e-6 + 1e-9);
+  EXPECT_LE(beyond.deepest, 5e-6 + 1e-9);
+  EXPECT_LT(beyond.rows, touching.rows);
+  std::printf(
+      "[ metric   ] aneurysm_packed, 3 s, pair tolerance 5 um: new pairs from touching -> beyond "
+      "the tolerance: deepest overlap %.3f -> %.3f um, LCP rows %ld -> %ld (at most %d -> %d), "
+      "activation loops %ld -> %ld\n",
+      touching.deepest * 1e6, beyond.deepest * 1e6, touching.rows, beyond.rows, touching.max_rows,
+      beyond.max_rows, touching.loops, beyond.loops);
 }
 
 }  // namespace

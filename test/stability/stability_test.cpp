@@ -115,8 +115,8 @@ TEST(Stability, CoilDeployedIntoTheAneurysmWithSelfContact) {
 
 TEST(Stability, CoilPackedIntoTheAneurysm) {
   // 30 cm of coil at 20 mm/s into the 7 mm dome: by 14.5 s, 29 cm are in
-  // and the LCPs hold hundreds of rows (wall and self-contact, largely
-  // redundant) with over a hundred forces. After every step no two of the
+  // and the LCPs hold a couple of hundred rows (wall and self-contact,
+  // largely redundant) with over a hundred forces. After every step no two of the
   // coil's elements that are not neighbours overlap by more than 10 um
   // (device pairs are found between elements: found between sample points,
   // crossing turns passed through each other by up to 0.15 mm).
@@ -128,7 +128,7 @@ TEST(Stability, CoilPackedIntoTheAneurysm) {
     if (d > deepest) deepest = d, at = k + 1;
   });
   EXPECT_EQ(o.steps, 14500);
-  EXPECT_GE(o.max_contacts, 250);
+  EXPECT_GE(o.max_contacts, 200);
   EXPECT_GE(o.max_active_contacts, 100);
   EXPECT_LT(deepest, 1e-5);
   std::printf(

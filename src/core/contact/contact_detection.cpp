@@ -447,7 +447,12 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
     stranded = detectWallCrossings(pb, root, field, s);
   }
   // Device points closer than the sum of their radii at x_f (element pairs
-  // that crossed on the way there held from where they first touched).
+  // that crossed on the way there held from where they first touched); with
+  // new_pairs_beyond_tolerance only those overlapping by more than the pair
+  // tolerance, as in later loops: at a predicted first iterate a packed
+  // coil's turns all touch, within the tolerance, where the last step's
+  // forces held them, and the pairs among them that held no force (two in
+  // three) would be rows the loop never needs.
   // Element pairs that passed through each other in the free motion are
   // looked for here only when no contact calls for the loop; otherwise in
   // the loop's iterates, where they still pass: a packed coil's free motion,
@@ -457,8 +462,10 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
     const auto tp = Clock::now();
     if (o.element_pairs) keepPairs(pb, s);
     const bool passed_through = s->contacts->empty();
-    for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, 0.0, stepStartAxes(pb, o, s),
-                                          passed_through, true, &s->at_x))
+    const double margin =
+        o.new_pairs_beyond_tolerance ? -std::max(o.penetration_tolerance, o.pair_tolerance) : 0.0;
+    for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, margin,
+                                          stepStartAxes(pb, o, s), passed_through, true, &s->at_x))
       if (!s->pair_contact.count(f.key)) addPair(f, s);
     ++st->pair_passes;
     st->pairs_ms += msSince(tp);

@@ -158,6 +158,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
           "penetration_tolerance",
           "keep_gap",
           "pair_tolerance",
+          "new_pairs_beyond_tolerance",
           "lumen_tolerance",
           "root_tolerance",
           "wall_curvature",
@@ -209,6 +210,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   o.predict_first_iterate = flag("predict_first_iterate", o.predict_first_iterate);
   o.columns_on_demand = flag("columns_on_demand", o.columns_on_demand);
   o.element_pairs = flag("element_pairs", o.element_pairs);
+  o.new_pairs_beyond_tolerance = flag("new_pairs_beyond_tolerance", o.new_pairs_beyond_tolerance);
   o.lumen_tolerance = r.number(n, "lumen_tolerance", "contact.", o.lumen_tolerance);
   o.lumen_settle = r.number(n, "lumen_settle", "contact.", o.lumen_settle);
   if (n["friction_solver"]) {
