@@ -24,13 +24,12 @@ struct PackedRun {
 };
 
 /// aneurysm_packed's first 3 s (its coil's turns meet from about 2.3 s) with
-/// the given pair tolerance (and new_pairs_beyond_tolerance, else the
-/// scene's); the deepest overlap checked after every step.
-PackedRun runPacked(double pair_tolerance, std::optional<bool> new_pairs_beyond_tolerance = {}) {
+/// the given pair tolerance (and new_pair_overlap [m], else the scene's);
+/// the deepest overlap checked after every step.
+PackedRun runPacked(double pair_tolerance, std::optional<double> new_pair_overlap = {}) {
   SceneSpec spec = loadSceneFile(resolveScenePath("aneurysm_packed"));
   spec.contact.pair_tolerance = pair_tolerance;
-  if (new_pairs_beyond_tolerance)
-    spec.contact.new_pairs_beyond_tolerance = *new_pairs_beyond_tolerance;
+  if (new_pair_overlap) spec.contact.new_pair_overlap = *new_pair_overlap;
   const SceneModel model = buildSceneModel(spec);
   SimData data = makeData(model);
   PackedRun run;
@@ -66,21 +65,21 @@ TEST(PairTolerance, TheCoilsTurnsOverlapByAtMostTheTolerance) {
       plain.deepest * 1e6, loose.deepest * 1e6, plain.loops, loose.loops);
 }
 
-// contact.new_pairs_beyond_tolerance: a pair that held no force in the last
-// step becomes a row in the first detection only once it overlaps by more
-// than the tolerance. The turns still end every step within it (brute
-// force), with fewer rows.
-TEST(PairTolerance, NewPairsBeyondTheToleranceEndWithinItOnFewerRows) {
-  const PackedRun touching = runPacked(5e-6, false);
-  const PackedRun beyond = runPacked(5e-6, true);
+// contact.new_pair_overlap: a pair that held no force in the last step
+// becomes a row in the first detection once it overlaps by more than this,
+// not once it touches. The turns still end every step within the pair
+// tolerance (brute force), with fewer rows.
+TEST(PairTolerance, NewPairsFromAnOverlapEndWithinTheToleranceOnFewerRows) {
+  const PackedRun touching = runPacked(5e-6, 0.0);
+  const PackedRun beyond = runPacked(5e-6, 2.5e-6);
   ASSERT_EQ(touching.steps, 3000);
   ASSERT_EQ(beyond.steps, 3000);
   EXPECT_LE(touching.deepest, 5e-6 + 1e-9);
   EXPECT_LE(beyond.deepest, 5e-6 + 1e-9);
   EXPECT_LT(beyond.rows, touching.rows);
   std::printf(
-      "[ metric   ] aneurysm_packed, 3 s, pair tolerance 5 um: new pairs from touching -> beyond "
-      "the tolerance: deepest overlap %.3f -> %.3f um, LCP rows %ld -> %ld (at most %d -> %d), "
+      "[ metric   ] aneurysm_packed, 3 s, pair tolerance 5 um: new pairs from touching -> from "
+      "2.5 um: deepest overlap %.3f -> %.3f um, LCP rows %ld -> %ld (at most %d -> %d), "
       "activation loops %ld -> %ld\n",
       touching.deepest * 1e6, beyond.deepest * 1e6, touching.rows, beyond.rows, touching.max_rows,
       beyond.max_rows, touching.loops, beyond.loops);

@@ -78,16 +78,15 @@ struct ContactOptions {
                                        // them, not the whole W (contact/delassus_columns.h)
   double pair_tolerance{0.0};          // effect 'device_contact': two device surfaces that overlap
                                        // by more are violated (at least penetration_tolerance) [m]
-  bool new_pairs_beyond_tolerance{false};  // effect 'device_contact': a pair not held in the last
-                                           // step becomes a contact in the step's first detection
-                                           // only once it overlaps by more than pair_tolerance (as
-                                           // in later loops), not once it touches
-  double lumen_tolerance{5e-6};  // effect 'coaxial': a point of an inner device beyond its
-                                 // outer device's lumen by more is violated [m]
-  double lumen_settle{0.1};      // effect 'coaxial': the loop goes on while a point held by the
-                                 // lumen's curvature slid more than this fraction of the clearance
-                                 // since the loop's anchor: what that leaves is a force below this
-                                 // fraction of the contact's (docs/model.md, "Coaxial devices") [-]
+  double new_pair_overlap{0.0};        // effect 'device_contact': a pair not held in the last
+                                       // step is a contact of the first detection once it overlaps
+                                       // by more (0: once it touches; later: pair_tolerance) [m]
+  double lumen_tolerance{5e-6};        // effect 'coaxial': a point of an inner device beyond its
+                                       // outer device's lumen by more is violated [m]
+  double lumen_settle{0.1};  // effect 'coaxial': the loop goes on while a point held by the
+                             // lumen's curvature slid more than this fraction of the clearance
+                             // since the loop's anchor: what that leaves is a force below this
+                             // fraction of the contact's (docs/model.md, "Coaxial devices") [-]
   FrictionOptions friction_solver;  // its tolerance and sweep limit
 };
 

@@ -447,12 +447,12 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
     stranded = detectWallCrossings(pb, root, field, s);
   }
   // Device points closer than the sum of their radii at x_f (element pairs
-  // that crossed on the way there held from where they first touched); with
-  // new_pairs_beyond_tolerance only those overlapping by more than the pair
-  // tolerance, as in later loops: at a predicted first iterate a packed
-  // coil's turns all touch, within the tolerance, where the last step's
-  // forces held them, and the pairs among them that held no force (two in
-  // three) would be rows the loop never needs.
+  // that crossed on the way there held from where they first touched), or
+  // only those overlapping by more than new_pair_overlap: at a predicted
+  // first iterate a packed coil's turns all touch, within the pair
+  // tolerance, where the last step's forces held them, and the pairs among
+  // them that held no force (two in three) would be rows the loop never
+  // needs; a pair pressed deeper than the tolerance is added by the loop.
   // Element pairs that passed through each other in the free motion are
   // looked for here only when no contact calls for the loop; otherwise in
   // the loop's iterates, where they still pass: a packed coil's free motion,
@@ -462,9 +462,7 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
     const auto tp = Clock::now();
     if (o.element_pairs) keepPairs(pb, s);
     const bool passed_through = s->contacts->empty();
-    const double margin =
-        o.new_pairs_beyond_tolerance ? -std::max(o.penetration_tolerance, o.pair_tolerance) : 0.0;
-    for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, margin,
+    for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, -o.new_pair_overlap,
                                           stepStartAxes(pb, o, s), passed_through, true, &s->at_x))
       if (!s->pair_contact.count(f.key)) addPair(f, s);
     ++st->pair_passes;

@@ -34,6 +34,8 @@ std::string validateContactOptions(const ContactOptions& o) {
     why << "keep_gap must lie in [0, 1e-3] m";
   else if (!(o.pair_tolerance >= 0.0 && o.pair_tolerance <= 1e-4))
     why << "pair_tolerance must lie in [0, 1e-4] m";
+  else if (!(o.new_pair_overlap >= 0.0 && o.new_pair_overlap <= 1e-4))
+    why << "new_pair_overlap must lie in [0, 1e-4] m";
   else if (!(o.lumen_tolerance >= 1e-9 && o.lumen_tolerance <= 1e-3))
     why << "lumen_tolerance must lie in [1e-9, 1e-3] m";
   else if (!(o.lumen_settle >= 1e-4 && o.lumen_settle <= 1.0))

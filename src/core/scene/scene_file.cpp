@@ -158,7 +158,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
           "penetration_tolerance",
           "keep_gap",
           "pair_tolerance",
-          "new_pairs_beyond_tolerance",
+          "new_pair_overlap",
           "lumen_tolerance",
           "root_tolerance",
           "wall_curvature",
@@ -195,6 +195,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
       r.number(n, "penetration_tolerance", "contact.", o.penetration_tolerance);
   o.keep_gap = r.number(n, "keep_gap", "contact.", o.keep_gap);
   o.pair_tolerance = r.number(n, "pair_tolerance", "contact.", o.pair_tolerance);
+  o.new_pair_overlap = r.number(n, "new_pair_overlap", "contact.", o.new_pair_overlap);
   o.root.tolerance = r.number(n, "root_tolerance", "contact.", o.root.tolerance);
   auto flag = [&](const char* key, bool fallback) {
     if (!n[key]) return fallback;
@@ -210,7 +211,6 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   o.predict_first_iterate = flag("predict_first_iterate", o.predict_first_iterate);
   o.columns_on_demand = flag("columns_on_demand", o.columns_on_demand);
   o.element_pairs = flag("element_pairs", o.element_pairs);
-  o.new_pairs_beyond_tolerance = flag("new_pairs_beyond_tolerance", o.new_pairs_beyond_tolerance);
   o.lumen_tolerance = r.number(n, "lumen_tolerance", "contact.", o.lumen_tolerance);
   o.lumen_settle = r.number(n, "lumen_settle", "contact.", o.lumen_settle);
   if (n["friction_solver"]) {

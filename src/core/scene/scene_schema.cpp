@@ -208,11 +208,13 @@ std::vector<SchemaEntry> makeSchema() {
           .unit("m")
           .def("0")
           .in("[]", 0.0, 1e-4),
-      Key("contact.new_pairs_beyond_tolerance", T::kBool,
+      Key("contact.new_pair_overlap", T::kNumber,
           "effect 'device_contact': a device pair not held in the last step becomes a contact in "
-          "the step's first detection only once it overlaps by more than pair_tolerance, not once "
-          "it touches (docs/performance.md)")
-          .def("false"),
+          "the step's first detection once its surfaces overlap by more than this (0: once they "
+          "touch; later loops: pair_tolerance; docs/performance.md)")
+          .unit("m")
+          .def("0")
+          .in("[]", 0.0, 1e-4),
       Key("contact.root_tolerance", T::kNumber, "the first root's position")
           .unit("m")
           .def("1e-11")
