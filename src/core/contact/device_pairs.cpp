@@ -387,10 +387,10 @@ std::vector<PointPair> findPointPairs(const std::vector<DeviceModel>& devices,
 /// of their centres (CellRows, cells as wide as the boxes in it, so that
 /// each pair of boxes that can meet is looked at once), then, where a
 /// lower bound of their axes' distance (axisGapBound) does not rule them
-/// out, the closest points of their axes (closestAxisPoints). On one body (a device, or
-/// either part of a detached one) only points more than 2 (r_a + r_b) plus
-/// two element lengths apart along it count (neighbours along a device
-/// always touch); the pusher's tip and the detached coil's end are two
+/// out, the closest points of their axes (closestAxisPoints). On one body
+/// (a device, or either part of a detached one) only points more than
+/// 2 (r_a + r_b) plus two element lengths apart along it count (neighbours
+/// along a device always touch); the pusher's tip and the detached coil's end are two
 /// bodies and touch as any pair. A closest point at an element's distal
 /// node is left to the next element, whose proximal node it is: one
 /// contact there, not two. Sorted by (device, element) pairs.
@@ -398,9 +398,10 @@ std::vector<PointPair> findPointPairs(const std::vector<DeviceModel>& devices,
 /// Given the step's start `from`, a pair whose axes moved (ElementRef::sweep
 /// of both) by at least their distance at `from` (its lower bound,
 /// axisGapBound) gets the swept test: firstTouch on the path that moves
-/// each axis point straight from its place at `from` to its place at x finds where they first came
-/// within the sum of their radii; a pair that crossed after it is made a contact there
-/// (Pair::swept). A slower pair cannot have crossed: its axes cannot have met.
+/// each axis point straight from its place at `from` to its place at x
+/// finds where they first came within the sum of their radii; a pair that
+/// crossed after it is made a contact there (Pair::swept). A slower pair
+/// cannot have crossed: its axes cannot have met.
 std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
                             const std::vector<DeviceState>& x, const std::vector<ElementRef>& els,
                             double margin, const StartAxes* from, bool apart_too,
