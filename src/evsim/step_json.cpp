@@ -47,7 +47,7 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
         << num(f.x()) << "," << num(f.y()) << "," << num(f.z()) << "]";
     }
     if (i < data.stalls.size())
-      o << ",\"drive_stalled\":" << (data.stalls[i].any() ? "true" : "false");
+      o << ",\"drive_stalled\":" << (data.stalls[i].against_command ? "true" : "false");
     if (model.atlas && i < data.tips.size()) {
       const VesselLocation& where = data.tips[i];
       o << ",\"tip_vessel\":\"" << model.atlas->vessels()[where.vessel].name

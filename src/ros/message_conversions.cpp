@@ -68,7 +68,7 @@ endovascular_sim::StepStats toStepStatsMsg(const FrameSnapshot& f, const LoopTim
   m.lcp_residual = s.lcp_residual;
   m.subdivisions = static_cast<uint32_t>(s.subdivisions);
   m.asleep = s.asleep;
-  for (const DriveStall& stall : f.stalls) m.stalled_drives += stall.any() ? 1 : 0;
+  for (const DriveStall& stall : f.stalls) m.stalled_drives += stall.against_command ? 1 : 0;
   m.max_penetration = s.max_penetration_m;
   m.steps_per_frame = static_cast<uint32_t>(timing.steps_per_frame);
   m.frame_ms = timing.frame_ms;
@@ -117,7 +117,7 @@ endovascular_sim::DeviceStatusArray toDeviceStatusMsg(const FrameSnapshot& f, in
       s.tip_force.y = f.tip_forces[i].y();
       s.tip_force.z = f.tip_forces[i].z();
     }
-    if (i < f.stalls.size()) s.drive_stalled = f.stalls[i].any();
+    if (i < f.stalls.size()) s.drive_stalled = f.stalls[i].against_command;
     if (f.model->atlas && i < f.tips.size() && f.tips[i].vessel >= 0) {
       s.tip_vessel = f.model->atlas->vessels()[f.tips[i].vessel].name;
       s.tip_depth = f.tips[i].depth;

@@ -16,6 +16,7 @@
 #include <limits>
 #include <sstream>
 
+#include "endovascular_sim/scene/device_file.h"
 #include "endovascular_sim/sim/simulation.h"
 #include "test_helpers.h"
 
@@ -201,7 +202,42 @@ TEST(DriveLimit, AWirePushedIntoAClosedTubeStallsAtTheLimit) {
   EXPECT_EQ(held.stalls[0].insertion, 1);
   EXPECT_LT(held.devices[0].inserted_length, commanded - 0.01);
   EXPECT_NEAR(held.drives[0].axial_force, kLimit, 0.05 * kLimit);
+  EXPECT_TRUE(held.stalls[0].against_command);
   EXPECT_FALSE(held.notices.empty());  // it said so
+}
+
+TEST(DriveLimit, AKickAgainstTheOtherSenseLeavesTheCommandFollowed) {
+  // dead_end's J-tip starts straightened in the sheath: each of its nodes
+  // springs out with a pull on the drive beyond the guidewire file's 1.5 N.
+  // That resists retraction, not the commanded insertion: the wire follows
+  // its command and is not reported stalled.
+  SceneSpec spec = loadSceneFile(resolveScenePath("dead_end"));
+  spec.devices[0].drive.max_force = spec.devices[0].device.drive_max_force;
+  ASSERT_EQ(spec.devices[0].drive.max_force, kDefaultDriveMaxForce);
+  const SceneModel model = buildSceneModel(spec);
+  SimData data = makeData(model);
+  int kicks = 0;
+  for (int k = 0; k < 200; ++k) {
+    ASSERT_EQ(step(model, &data), StepStatus::kOk) << data.last_error;
+    if (data.stalls[0].insertion == -1) ++kicks;
+    EXPECT_FALSE(data.stalls[0].against_command) << "t = " << data.time;
+  }
+  std::printf("[ metric   ] J-tip leaving the sheath: %d steps pulled beyond %.1f N in 0.2 s\n",
+              kicks, kDefaultDriveMaxForce);
+  EXPECT_GT(kicks, 0);
+  EXPECT_NEAR(data.devices[0].inserted_length, 0.04 * 0.2, 1e-9);  // the command's
+  EXPECT_TRUE(data.notices.empty());
+}
+
+TEST(DriveLimit, TheDefaultTorqueIsTheNitinolCoresPlateauTorque) {
+  // docs/model.md, "Drive limits": T = tau pi d^3 / 16 at the surface of the
+  // guidewire's core, tau = 650 MPa / sqrt(3) (binary NiTi's loading plateau).
+  const DeviceSpec wire = loadDeviceFile(std::string(EVSIM_CONFIG_DIR) + "/devices/guidewire.urdf");
+  const double d = 2.0 * wire.sections.front().section.outer_radius;
+  const double plateau_torque = 650e6 / std::sqrt(3.0) * M_PI * d * d * d / 16.0;
+  EXPECT_NEAR(kDefaultDriveMaxTorque, plateau_torque, 0.02 * plateau_torque);
+  EXPECT_EQ(wire.drive_max_torque, kDefaultDriveMaxTorque);
+  EXPECT_EQ(wire.drive_max_force, kDefaultDriveMaxForce);
 }
 
 TEST(DriveLimit, AStalledWireThatFellAsleepBacksOutOnAControllersCommand) {

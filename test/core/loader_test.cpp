@@ -51,7 +51,34 @@ TEST_F(Loader, DriveLimitsAreReadAndChecked) {
   EXPECT_EQ(s.devices[0].drive.valve_friction, 0.3);
   EXPECT_EQ(s.devices[0].drive.valve_torque, 0.0002);
   EXPECT_EQ(loadSceneFile(write("plain.yaml", kScene)).devices[0].drive.valve_friction, 0.0);
-  EXPECT_TRUE(std::isinf(loadSceneFile(write("plain.yaml", kScene)).devices[0].drive.max_force));
+  // Omitted: the device file's limits, a hand's where it gives none.
+  const DriveSpec plain = loadSceneFile(write("plain.yaml", kScene)).devices[0].drive;
+  EXPECT_EQ(plain.max_force, kDefaultDriveMaxForce);
+  EXPECT_EQ(plain.max_torque, kDefaultDriveMaxTorque);
+  std::string own = kDevice;
+  own.replace(own.find("max_rotation_speed=\"6.28\""), 25,
+              "max_rotation_speed=\"6.28\" drive_max_force=\"3\" drive_max_torque=\"0.002\"");
+  write("wire.urdf", own);
+  const DriveSpec from_file = loadSceneFile(write("plain.yaml", kScene)).devices[0].drive;
+  EXPECT_EQ(from_file.max_force, 3.0);
+  EXPECT_EQ(from_file.max_torque, 0.002);
+  // The scene's word wins, one limit at a time; `unlimited` is kinematic.
+  text = kScene;
+  text.replace(text.find("inserted_length: 0.05"), 21,
+               "inserted_length: 0.05\n    drive: {max_force: unlimited}");
+  const DriveSpec kinematic = loadSceneFile(write("scene.yaml", text)).devices[0].drive;
+  EXPECT_TRUE(std::isinf(kinematic.max_force));
+  EXPECT_EQ(kinematic.max_torque, 0.002);
+  write("wire.urdf", kDevice);
+  expectNames(sceneError("inserted_length: 0.05",
+                         "inserted_length: 0.05\n    drive: {max_torque: unlimted}"),
+              "scene.yaml", 10, "devices[0].drive.max_torque", "unlimited");
+  expectNames(deviceError("max_rotation_speed=\"6.28\"",
+                          "max_rotation_speed=\"6.28\" drive_max_force=\"0\""),
+              "wire.urdf", 14, "evsim_device/drive_max_force", "must be positive");
+  expectNames(deviceError("max_rotation_speed=\"6.28\"",
+                          "max_rotation_speed=\"6.28\" drive_max_torque=\"inf\""),
+              "wire.urdf", 14, "evsim_device/drive_max_torque", "must be finite");
   expectNames(
       sceneError("inserted_length: 0.05", "inserted_length: 0.05\n    drive: {max_force: -1}"),
       "scene.yaml", 10, "devices[0].drive.max_force", "must be above 0 N, got -1");

@@ -37,14 +37,25 @@ struct XrayMarkerSpec {
   int material{-1};      // index into xrayMaterials()
 };
 
+/// What a hand's drive applies at most where neither the device file nor
+/// the scene says (docs/model.md, "Drive limits"): the force at which a
+/// 0.014 in guidewire pushed by hand crosses an occlusion's fibrous cap and
+/// buckles, and the torque at which a 0.36 mm nitinol wire's surface reaches
+/// the superelastic plateau in shear (650 MPa / sqrt(3) * pi d^3 / 16).
+inline constexpr double kDefaultDriveMaxForce = 1.5;      // [N]
+inline constexpr double kDefaultDriveMaxTorque = 3.3e-3;  // [N m]
+
 /// What the device file says: sections from proximal to distal end, limits.
 struct DeviceSpec {
   std::string name;
   std::vector<DeviceSectionSpec> sections;
-  double max_insertion_speed{0.05};     // [m/s]
-  double max_rotation_speed{6.2832};    // [rad/s]
-  double rayleigh_mass{0.0};            // alpha in D = alpha M + beta K [1/s]
-  double rayleigh_stiffness{0.0};       // beta [s]
+  double max_insertion_speed{0.05};   // [m/s]
+  double max_rotation_speed{6.2832};  // [rad/s]
+  /// The drive's limits a scene applies unless it gives its own.
+  double drive_max_force{kDefaultDriveMaxForce};    // [N]
+  double drive_max_torque{kDefaultDriveMaxTorque};  // [N m]
+  double rayleigh_mass{0.0};                        // alpha in D = alpha M + beta K [1/s]
+  double rayleigh_stiffness{0.0};                   // beta [s]
   std::string detach_section;           // a coil: the section that detaches on command ("": none)
   std::vector<XrayMarkerSpec> markers;  // radiopaque bands
 };

@@ -83,6 +83,10 @@ struct DriveSpec {
 struct DriveStall {
   int insertion{0};
   int rotation{0};
+  /// A stall in the sense the command moves the drive: the command is not
+  /// followed (what users are told; a kick against the other sense, as a
+  /// shaped tip springs out of the sheath, leaves the command followed).
+  bool against_command{false};
   bool any() const { return insertion != 0 || rotation != 0; }
 };
 

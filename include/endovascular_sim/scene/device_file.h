@@ -9,7 +9,9 @@
 //   <evsim_device max_insertion_speed="0.05"   [m/s]
 //                 max_rotation_speed="6.28"    [rad/s]
 //                 rayleigh_mass="1.0"          [1/s]  (optional, default 0)
-//                 rayleigh_stiffness="0"/>     [s]    (optional, default 0)
+//                 rayleigh_stiffness="0"       [s]    (optional, default 0)
+//                 drive_max_force="1.5"        [N]    (optional, kDefaultDriveMaxForce)
+//                 drive_max_torque="0.0033"/>  [N m]  (optional, kDefaultDriveMaxTorque)
 //   <evsim_section link="tip"
 //                  young_modulus="4e10"        [Pa]
 //                  poisson_ratio="0.33"        [-]   (or shear_modulus [Pa])

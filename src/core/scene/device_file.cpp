@@ -59,6 +59,9 @@ class AttributeReader {
     if (!(v > 0.0)) fail(name, "must be positive, got " + std::to_string(v));
     return v;
   }
+  double positive(const char* name, double fallback) const {
+    return has(name) ? positive(name) : fallback;
+  }
   double nonNegative(const char* name, double fallback) const {
     const double v = number(name, fallback);
     if (v < 0.0) fail(name, "must not be negative, got " + std::to_string(v));
@@ -228,6 +231,8 @@ void readDeviceElement(const std::string& path, const TiXmlElement* robot, Devic
   spec->max_rotation_speed = d.positive("max_rotation_speed");
   spec->rayleigh_mass = d.nonNegative("rayleigh_mass", 0.0);
   spec->rayleigh_stiffness = d.nonNegative("rayleigh_stiffness", 0.0);
+  spec->drive_max_force = d.positive("drive_max_force", kDefaultDriveMaxForce);
+  spec->drive_max_torque = d.positive("drive_max_torque", kDefaultDriveMaxTorque);
   const char* cut = device->Attribute("detach_section");
   if (!cut) return;
   spec->detach_section = cut;

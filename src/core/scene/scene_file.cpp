@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
 #include "endovascular_sim/core/load_error.h"
@@ -28,20 +29,26 @@ constexpr double kMaxDuration = 3600.0;     // [s] a scripted procedure
 constexpr double kMinElementLength = 1e-5;  // [m] max_element_length's floor
 constexpr double kMaxDeviceElements = 1e5;  // per device, after refinement
 
-/// `drive: {max_force: N, max_torque: N m, valve_friction: N, valve_torque:
-/// N m}`: the limits each positive, omitted for none; the valve's grip not
-/// negative, 0 when omitted.
-DriveSpec readDrive(const YamlReader& r, const YAML::Node& n, const std::string& key) {
+/// `drive: {max_force: N | unlimited, max_torque: N m | unlimited,
+/// valve_friction: N, valve_torque: N m}` over the device file's limits
+/// (`drive`): each limit positive, `unlimited` for a kinematic drive, the
+/// device file's when omitted; the valve's grip not negative, 0 when omitted.
+DriveSpec readDrive(const YamlReader& r, const YAML::Node& n, const std::string& key,
+                    DriveSpec drive) {
   r.keys(n, key, {"max_force", "max_torque", "valve_friction", "valve_torque"});
-  DriveSpec drive;
   for (const char* name : {"max_force", "max_torque"}) {
     if (!n[name]) continue;
+    double& limit = name[4] == 'f' ? drive.max_force : drive.max_torque;
+    if (n[name].IsScalar() && n[name].Scalar() == "unlimited") {
+      limit = std::numeric_limits<double>::infinity();
+      continue;
+    }
     const double v = r.number(n[name], key + "." + name);
     if (!(v > 0.0) || !std::isfinite(v))
       r.fail(n[name], key + "." + name,
              std::string("must be a positive ") + (name[4] == 'f' ? "force [N]" : "torque [N m]") +
-                 " (omit it for a drive without limit)");
-    (name[4] == 'f' ? drive.max_force : drive.max_torque) = v;
+                 " or unlimited (a kinematic drive)");
+    limit = v;
   }
   drive.valve_friction = r.number(n, "valve_friction", key + ".", 0.0);
   drive.valve_torque = r.number(n, "valve_torque", key + ".", 0.0);
@@ -141,7 +148,9 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
            "must lie in [0, " + std::to_string(model.length) + "] m (the device's length)");
   d.inserted_length = std::min(d.inserted_length, model.length);
   d.rotation = r.number(n, "rotation", p, 0.0);
-  if (n["drive"]) d.drive = readDrive(r, n["drive"], p + "drive");
+  d.drive.max_force = d.device.drive_max_force;
+  d.drive.max_torque = d.device.drive_max_torque;
+  if (n["drive"]) d.drive = readDrive(r, n["drive"], p + "drive", d.drive);
   return d;
 }
 

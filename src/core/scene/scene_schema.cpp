@@ -147,15 +147,21 @@ std::vector<SchemaEntry> makeSchema() {
           .unit("m")
           .in("[]", 1e-5, kInf),
       Key("devices[].drive", T::kMap,
-          "the drive's limits and the introducer valve (omitted: kinematic, docs/model.md)"),
-      Key("devices[].drive.max_force", T::kNumber, "the drive slips beyond this axial force")
+          "the drive's limits and the introducer valve (docs/model.md, \"Drive limits\")"),
+      Key("devices[].drive.max_force", T::kNumber,
+          "the drive slips beyond this axial force; `unlimited`: a kinematic drive")
           .unit("N")
-          .def("none")
-          .in("(]", 0, kInf),
-      Key("devices[].drive.max_torque", T::kNumber, "the drive slips beyond this torque")
+          .def("the device file's (1.5 N unless it says)")
+          .in("(]", 0, kInf)
+          .orAlso(T::kChoice)
+          .choices({"unlimited"}),
+      Key("devices[].drive.max_torque", T::kNumber,
+          "the drive slips beyond this torque; `unlimited`: a kinematic drive")
           .unit("N m")
-          .def("none")
-          .in("(]", 0, kInf),
+          .def("the device file's (3.3 mN m unless it says)")
+          .in("(]", 0, kInf)
+          .orAlso(T::kChoice)
+          .choices({"unlimited"}),
       Key("devices[].drive.valve_friction", T::kNumber, "the valve's axial grip against the drive")
           .unit("N")
           .def("0")

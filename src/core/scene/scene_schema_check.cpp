@@ -1,6 +1,7 @@
 // A parsed scene file against the schema (scene/scene_schema.h): every
 // problem at once, with its line and column, for the loader and
 // `evsim check`; and the schema as the Markdown reference.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -104,7 +105,7 @@ TypeWords typeWords(SchemaType t, const SchemaEntry& e) {
     case SchemaType::kText:
       return {"string", "a string"};
     case SchemaType::kChoice:
-      return {list(e.choices), "one of " + list(e.choices)};
+      return {list(e.choices), (e.choices.size() == 1 ? "" : "one of ") + list(e.choices)};
     case SchemaType::kVector3:
       return {"[x, y, z]", "a list of 3 numbers"};
     case SchemaType::kIdNames:
@@ -153,6 +154,10 @@ class Checker {
   }
 
   void value(const YAML::Node& v, const SchemaEntry& e, const std::string& key) {
+    // A word among a number's alternatives (`max_force: unlimited`).
+    if (e.alternative == SchemaType::kChoice && v.IsScalar() &&
+        std::find(e.choices.begin(), e.choices.end(), v.Scalar()) != e.choices.end())
+      return;
     if (fits(v, e.type)) return deep(v, e, e.type, key);
     if (e.alternative != SchemaType::kNone && fits(v, e.alternative))
       return deep(v, e, e.alternative, key);
@@ -243,7 +248,13 @@ class Checker {
 
   void scalarNumber(const YAML::Node& v, const SchemaEntry& e, bool whole, const std::string& key) {
     double x = 0.0;
-    if (!parse(v, &x)) return add(v, key, whole ? "must be a whole number" : "must be a number");
+    if (!parse(v, &x)) {
+      std::string what = whole ? "must be a whole number" : "must be a number";
+      if (e.alternative == SchemaType::kChoice)
+        what +=
+            " or " + typeWords(SchemaType::kChoice, e).message + suggestion(v.Scalar(), e.choices);
+      return add(v, key, what);
+    }
     if (!std::isfinite(x)) return add(v, key, "must be finite");
     if (whole && (x != std::floor(x) || std::abs(x) > 1e15))
       return add(v, key, "must be a whole number");

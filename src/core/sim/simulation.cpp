@@ -306,17 +306,19 @@ int commandedSense(DriveCommand::Mode mode, double command, double current) {
   return move > 0.0 ? 1 : move < 0.0 ? -1 : 0;
 }
 
-/// A notice when a drive slips against its command (at most one a second
-/// per device: a drive at its limit slips and holds by turns).
+/// Marks a drive stalled against its command, with a notice (at most one a
+/// second per device: a drive at its limit slips and holds by turns).
 void noteStall(const SceneModel& model, size_t i, SimData* data) {
-  const DriveStall& now = data->stalls[i];
+  DriveStall& now = data->stalls[i];
+  if (i >= data->commands.size()) return;
   const DriveCommand& c = data->commands[i];
   const DeviceState& x = data->devices[i];
   const bool insertion =
       now.insertion != 0 && now.insertion == commandedSense(c.mode, c.insertion, x.inserted_length);
   const bool rotation =
       now.rotation != 0 && now.rotation == commandedSense(c.mode, c.rotation, x.rotation_angle);
-  if (!insertion && !rotation) return;
+  now.against_command = insertion || rotation;
+  if (!now.against_command) return;
   double& last = data->stall_noticed[i];
   if (data->time - last < 1.0) return;
   last = data->time;
