@@ -326,5 +326,50 @@ TEST(ChainDelassus, MatchesALongDoubleSolveOnAStiffNitinolWire) {
   EXPECT_LT((W_block - ref).norm(), 1e-10 * ref.norm());
 }
 
+TEST(TrailingDelassus, SolvesOnlyBelowTheRowsAndCarriesTheCorrectionUp) {
+  // Rows on the distal third of a bent wire only: W and A^-1 H^T l from the
+  // trailing solve against a dense long double Cholesky of the whole A.
+  BeamSection sec;
+  sec.young_modulus = 60e9;
+  sec.shear_modulus = 60e9 / 2.66;
+  sec.outer_radius = 1.78e-4;
+  sec.density = 6450;
+  DeviceModel model = buildDeviceModel(straightDeviceSpec("wire", sec, 0.2, 90));
+  Introducer intro;
+  DeviceState state = placeDevice(model, intro, model.length - 0.002, 0.0);
+  for (int i = 0; i < model.num_nodes; ++i) state.position[i].y() += 0.01 * std::sin(0.05 * i);
+  DeviceWorkspace ws;
+  computeFreeMotion(model, intro, Vec3::Zero(), 1e-3, state, &ws);
+  const int first = ws.first_free_node, n = ws.factor.size();
+  std::vector<ContactRow> rows;
+  for (int e = 60; e + 1 < model.num_nodes; e += 4) {
+    const Vec3 t = state.rotation[e] * Vec3::UnitX();
+    ContactRow cr;
+    cr.offset[0] = 6 * (e - first);
+    cr.h[0] = contactRow(model, state, SamplePoint{e, 0.5, 1.78e-4}, t.unitOrthogonal());
+    rows.push_back(cr);
+  }
+  TrailingSolve Y;
+  MatX W;
+  delassusOperator(ws.factor, rows, &Y, &W);
+  EXPECT_EQ(Y.first_block, 60 - first);
+  EXPECT_EQ(Y.Y.rows(), n - 6 * Y.first_block);
+  const VecX l = VecX::LinSpaced(static_cast<int>(rows.size()), 0.1, 1.0);
+  VecX dq = VecX::Zero(n);
+  addSolveTimes(ws.factor, Y, l, dq);
+  using MatL = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
+  using VecL = Eigen::Matrix<long double, Eigen::Dynamic, 1>;
+  const MatL A = ws.system.toDense().bottomRightCorner(n, n).cast<long double>();
+  const MatL H = denseH(rows, n).cast<long double>();
+  const Eigen::LLT<MatL> llt(A);
+  const MatX W_ref = (H * llt.solve(H.transpose())).cast<double>();
+  const VecX dq_ref = llt.solve(VecL(H.transpose() * l.cast<long double>())).cast<double>();
+  EXPECT_LT((W - W_ref).norm(), 1e-10 * W_ref.norm());
+  EXPECT_LT((dq - dq_ref).norm(), 1e-10 * dq_ref.norm());
+  // The proximal blocks, carried up the chain, are not zero: the wire's
+  // whole free part moves.
+  EXPECT_GT(dq.head(6 * Y.first_block).norm(), 1e-3 * dq.norm());
+}
+
 }  // namespace
 }  // namespace evsim

@@ -12,7 +12,8 @@
 //    carried down and their rows up the chain) and keeps the rest;
 //  - delassusOperator: one block solve with c right-hand sides
 //    gives Y = A^-1 H^T (banded triangular solves, both directions over the
-//    whole chain), then W_ij = h_i . Y_j over the 12 non-zeros of h_i.
+//    whole chain, or with TrailingSolve only from the first node a row
+//    reaches), then W_ij = h_i . Y_j over the 12 non-zeros of h_i.
 // The naive alternative, c separate solves and a dense product H Y
 // (O(c n) + O(c^2 n)), is measured against both in the benchmarks.
 #pragma once
@@ -36,8 +37,27 @@ struct ContactRow {
 
 /// H^T (free DOFs x c) of the rows over n free DOFs.
 MatX transposedRows(int n, const std::vector<ContactRow>& rows);
-/// W = H Y (c x c) from Y = A^-1 H^T.
-void rowsTimes(const std::vector<ContactRow>& rows, const MatX& Y, MatX* W);
+/// W = H Y (c x c) from Y = A^-1 H^T, whose first row is free DOF
+/// `first_dof` (the rows reach none before it).
+void rowsTimes(const std::vector<ContactRow>& rows, const MatX& Y, MatX* W, int first_dof = 0);
+
+/// A^-1 H^T from the first free node a row reaches on: above it (towards
+/// the proximal end) A^-1 H^T is carried up the chain from there
+/// (through ChainFactor::transfer), not solved for every row.
+struct TrailingSolve {
+  MatX Y;  // blocks [first_block, n) of A^-1 H^T (6 (n - first_block) x c)
+  int first_block{0};
+};
+
+/// Y's trailing blocks and W = H Y, with the device's chain factor: the
+/// same W as delassusOperator's, the triangular solves only below the
+/// rows' first node.
+void delassusOperator(const ChainFactor& factor, const std::vector<ContactRow>& rows,
+                      TrailingSolve* Y, MatX* W);
+
+/// *dq (the factor's size() entries) += A^-1 H^T l from Y's trailing blocks.
+void addSolveTimes(const ChainFactor& factor, const TrailingSolve& Y, const VecX& l,
+                   Eigen::Ref<VecX> dq);
 
 /// Y = A^-1 H^T (free DOFs x c) and W = H Y (c x c), with any factor of A
 /// over the free nodes that solves a block of right-hand sides: the

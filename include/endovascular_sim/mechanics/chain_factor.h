@@ -43,6 +43,12 @@ class ChainFactor {
   /// X <- A^-1 X (size() x k), whose blocks before first_nonzero are zero
   /// (the forward pass starts there).
   void solveInPlace(MatX* X, int first_nonzero = 0) const;
+  /// The blocks [first, numBlocks()) of A^-1 B for a B whose blocks before
+  /// `first` are zero: *X holds B's blocks from `first` on (6 (numBlocks() -
+  /// first) x k) and becomes those of the solution, the same numbers as
+  /// solveInPlace's there (the blocks before `first` follow from block
+  /// `first` through transfer(): x_i = transfer(i) x_{i+1}).
+  void solveTrailingInPlace(MatX* X, int first) const;
 
  private:
   std::vector<Mat6> transfer_;  // -L_{i+1}^T

@@ -133,7 +133,7 @@ struct LoopSystem {
   std::unique_ptr<DelassusColumns> columns;      // or W formed as the status method reads it
   std::vector<std::vector<int>> of_device;       // rows with a part on each device
   std::vector<std::vector<ContactRow>> rows_of;  // their rows of H, per device
-  std::vector<MatX> Y;                           // A^-1 H^T where W came from the block solve
+  std::vector<TrailingSolve> Y;                  // A^-1 H^T where W came from the block solve
   // The lumen's curvature: r rows after the m of the contacts, eliminated
   // from W and q (lumen_curvature.cpp).
   std::vector<LumenSpring> springs;

@@ -289,7 +289,7 @@ const DelassusBuffer* deviceOperator(const ContactProblem& pb, size_t d, LoopSta
     return nullptr;
   }
   ensureBand(pb, d, s, sys);
-  sys->Y[d].resize(0, 0);
+  sys->Y[d].Y.resize(0, 0);
   // Rows unchanged since the last loop (same normal, and for a sample
   // at a node no tangent term) keep their entries among themselves.
   const std::vector<ContactRow>& before = s->last_rows[d];
@@ -346,7 +346,7 @@ void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopS
   const int rows = m + static_cast<int>(sys->springs.size());
   sys->of_device.assign(nd, {});
   sys->rows_of.assign(nd, {});
-  sys->Y.assign(nd, MatX());
+  sys->Y.assign(nd, TrailingSolve());
   std::vector<int> column_of_row;
   if (columnsOnDemandPay(pb, o, *s, *sys)) {
     sys->columns = std::make_unique<DelassusColumns>(rows);
@@ -464,8 +464,8 @@ void correctMotion(const ContactProblem& pb, const ContactOptions& o, const Loop
     VecX l(idx.size());
     for (size_t j = 0; j < idx.size(); ++j) l(j) = forces(idx[j]);
     const int n = sys.factor[d]->size();
-    if (sys.Y[d].size() > 0) {
-      s->dq[d].tail(n) += sys.Y[d] * l;
+    if (sys.Y[d].Y.cols() > 0) {  // W came from the block solve
+      addSolveTimes(*sys.factor[d], sys.Y[d], l, s->dq[d].tail(n));
     } else {
       VecX correction = contactForce(n, sys.rows_of[d], l);
       ws[d].inverse.solveInPlace(&correction);  // the LDL^T of the band's matrix

@@ -8,17 +8,30 @@ namespace evsim {
 
 namespace {
 
-/// H^T into *Ht (n x c); returns the first DOF a row reaches (n: none).
-int fillTransposedRows(int n, const std::vector<ContactRow>& rows, MatX* Ht) {
+/// The first free DOF a row reaches (n: none).
+int firstDof(int n, const std::vector<ContactRow>& rows) {
+  int first = n;
+  for (const ContactRow& row : rows)
+    for (int part = 0; part < row.parts; ++part)
+      for (int k = 0; k < 12; ++k) {
+        const int dof = row.offset[part] + k;
+        if (dof >= 0 && dof < n) first = std::min(first, dof);
+      }
+  return first;
+}
+
+/// H^T's rows [from, n) into *Ht ((n - from) x c); returns the first DOF a
+/// row reaches (n: none).
+int fillTransposedRows(int n, const std::vector<ContactRow>& rows, MatX* Ht, int from = 0) {
   const int c = static_cast<int>(rows.size());
-  Ht->setZero(n, c);
+  Ht->setZero(n - from, c);
   int first = n;
   for (int j = 0; j < c; ++j)
     for (int part = 0; part < rows[j].parts; ++part)
       for (int k = 0; k < 12; ++k) {
         const int dof = rows[j].offset[part] + k;
-        if (dof < 0 || dof >= n) continue;
-        (*Ht)(dof, j) += rows[j].h[part](k);
+        if (dof < from || dof >= n) continue;
+        (*Ht)(dof - from, j) += rows[j].h[part](k);
         first = std::min(first, dof);
       }
   return first;
@@ -39,9 +52,9 @@ void delassusOperator(const ChainFactor& factor, const std::vector<ContactRow>& 
   rowsTimes(rows, *Y, W);
 }
 
-void rowsTimes(const std::vector<ContactRow>& rows, const MatX& Y, MatX* W) {
+void rowsTimes(const std::vector<ContactRow>& rows, const MatX& Y, MatX* W, int first_dof) {
   const int c = static_cast<int>(rows.size());
-  const int n = static_cast<int>(Y.rows());
+  const int n = first_dof + static_cast<int>(Y.rows());
   W->resize(c, c);
   for (int i = 0; i < c; ++i)
     for (int j = 0; j <= i; ++j) {
@@ -49,10 +62,33 @@ void rowsTimes(const std::vector<ContactRow>& rows, const MatX& Y, MatX* W) {
       for (int part = 0; part < rows[i].parts; ++part)
         for (int k = 0; k < 12; ++k) {
           const int dof = rows[i].offset[part] + k;
-          if (dof >= 0 && dof < n) w += rows[i].h[part](k) * Y(dof, j);
+          if (dof >= first_dof && dof < n) w += rows[i].h[part](k) * Y(dof - first_dof, j);
         }
       (*W)(i, j) = (*W)(j, i) = w;
     }
+}
+
+void delassusOperator(const ChainFactor& factor, const std::vector<ContactRow>& rows,
+                      TrailingSolve* Y, MatX* W) {
+  const int n = factor.size();
+  Y->first_block = std::min(firstDof(n, rows), n) / 6;
+  const int from = 6 * Y->first_block;
+  fillTransposedRows(n, rows, &Y->Y, from);
+  factor.solveTrailingInPlace(&Y->Y, Y->first_block);
+  rowsTimes(rows, Y->Y, W, from);
+}
+
+void addSolveTimes(const ChainFactor& factor, const TrailingSolve& Y, const VecX& l,
+                   Eigen::Ref<VecX> dq) {
+  const int from = 6 * Y.first_block;
+  dq.tail(dq.size() - from).noalias() += Y.Y * l;
+  if (from == 0 || Y.Y.rows() == 0) return;
+  // Above the rows A^-1 H^T l solves L^T x = 0: x_i = -L_{i+1}^T x_{i+1}.
+  Vec6 x = Y.Y.topRows<6>() * l;
+  for (int i = Y.first_block - 1; i >= 0; --i) {
+    x = factor.transfer(i) * x;
+    dq.segment<6>(6 * i) += x;
+  }
 }
 
 namespace {

@@ -108,4 +108,12 @@ void ChainFactor::solveInPlace(MatX* X, int first_nonzero) const {
     X->middleRows<6>(6 * i).noalias() += transfer_[i] * X->middleRows<6>(6 * i + 6);
 }
 
+void ChainFactor::solveTrailingInPlace(MatX* X, int first) const {
+  const int n = numBlocks();
+  auto block = [&](int i) { return X->middleRows<6>(6 * (i - first)); };
+  for (int i = first; i + 1 < n; ++i) block(i + 1).noalias() += transfer_[i].transpose() * block(i);
+  for (int i = first; i < n; ++i) block(i) = d_inv_[i] * block(i);
+  for (int i = n - 2; i >= first; --i) block(i).noalias() += transfer_[i] * block(i + 1);
+}
+
 }  // namespace evsim
