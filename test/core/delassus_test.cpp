@@ -284,21 +284,38 @@ TEST(ChainDelassus, MatchesTheBlockSolveOnTheWholePackedCoil) {
   EXPECT_LT((W - W_block).norm(), 1e-10 * W_block.norm()) << c.rows.size() << " rows";
 }
 
-TEST(ChainDelassus, MatchesALongDoubleSolveOnAStiffNitinolWire) {
-  // The benchmarks' wire: 200 nitinol elements of 2 mm, bent; cond(A) is
-  // 8.7e12. Measured: 1.9e-11 relative (the block solve: 1.2e-11). Forming
-  // L_i^T as D^-1 A_{i,i+1} with an explicit D^-1 gave 8.6e-10.
+/// A 0.36 mm nitinol wire of `elements` elements over `length` [m], all but
+/// 2 mm out of its introducer, bent by sin(rate i) [cm] at node i, with the
+/// free motion's factor of its matrix.
+struct BentWire {
+  DeviceModel model;
+  DeviceState state;
+  DeviceWorkspace ws;
+};
+
+BentWire bentNitinolWire(double length, int elements, double rate) {
   BeamSection sec;
   sec.young_modulus = 60e9;
   sec.shear_modulus = 60e9 / 2.66;
   sec.outer_radius = 1.78e-4;
   sec.density = 6450;
-  DeviceModel model = buildDeviceModel(straightDeviceSpec("wire", sec, 0.4, 200));
+  BentWire w;
+  w.model = buildDeviceModel(straightDeviceSpec("wire", sec, length, elements));
   Introducer intro;
-  DeviceState state = placeDevice(model, intro, model.length - 0.002, 0.0);
-  for (int i = 0; i < model.num_nodes; ++i) state.position[i].y() += 0.01 * std::sin(0.03 * i);
-  DeviceWorkspace ws;
-  computeFreeMotion(model, intro, Vec3::Zero(), 1e-3, state, &ws);
+  w.state = placeDevice(w.model, intro, w.model.length - 0.002, 0.0);
+  for (int i = 0; i < w.model.num_nodes; ++i) w.state.position[i].y() += 0.01 * std::sin(rate * i);
+  computeFreeMotion(w.model, intro, Vec3::Zero(), 1e-3, w.state, &w.ws);
+  return w;
+}
+
+TEST(ChainDelassus, MatchesALongDoubleSolveOnAStiffNitinolWire) {
+  // The benchmarks' wire: 200 nitinol elements of 2 mm, bent; cond(A) is
+  // 8.7e12. Measured: 1.9e-11 relative (the block solve: 1.2e-11). Forming
+  // L_i^T as D^-1 A_{i,i+1} with an explicit D^-1 gave 8.6e-10.
+  BentWire wire = bentNitinolWire(0.4, 200, 0.03);
+  const DeviceModel& model = wire.model;
+  const DeviceState& state = wire.state;
+  const DeviceWorkspace& ws = wire.ws;
   std::mt19937 rng(100);  // 100 rows at random points, normals across the wire
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const int first = ws.first_free_node, n = ws.factor.size();
@@ -329,17 +346,10 @@ TEST(ChainDelassus, MatchesALongDoubleSolveOnAStiffNitinolWire) {
 TEST(TrailingDelassus, SolvesOnlyBelowTheRowsAndCarriesTheCorrectionUp) {
   // Rows on the distal third of a bent wire only: W and A^-1 H^T l from the
   // trailing solve against a dense long double Cholesky of the whole A.
-  BeamSection sec;
-  sec.young_modulus = 60e9;
-  sec.shear_modulus = 60e9 / 2.66;
-  sec.outer_radius = 1.78e-4;
-  sec.density = 6450;
-  DeviceModel model = buildDeviceModel(straightDeviceSpec("wire", sec, 0.2, 90));
-  Introducer intro;
-  DeviceState state = placeDevice(model, intro, model.length - 0.002, 0.0);
-  for (int i = 0; i < model.num_nodes; ++i) state.position[i].y() += 0.01 * std::sin(0.05 * i);
-  DeviceWorkspace ws;
-  computeFreeMotion(model, intro, Vec3::Zero(), 1e-3, state, &ws);
+  BentWire wire = bentNitinolWire(0.2, 90, 0.05);
+  const DeviceModel& model = wire.model;
+  const DeviceState& state = wire.state;
+  const DeviceWorkspace& ws = wire.ws;
   const int first = ws.first_free_node, n = ws.factor.size();
   std::vector<ContactRow> rows;
   for (int e = 60; e + 1 < model.num_nodes; e += 4) {
