@@ -20,21 +20,16 @@ int firstDof(int n, const std::vector<ContactRow>& rows) {
   return first;
 }
 
-/// H^T's rows [from, n) into *Ht ((n - from) x c); returns the first DOF a
-/// row reaches (n: none).
-int fillTransposedRows(int n, const std::vector<ContactRow>& rows, MatX* Ht, int from = 0) {
+/// H^T's rows [from, n) into *Ht ((n - from) x c).
+void fillTransposedRows(int n, const std::vector<ContactRow>& rows, MatX* Ht, int from = 0) {
   const int c = static_cast<int>(rows.size());
   Ht->setZero(n - from, c);
-  int first = n;
   for (int j = 0; j < c; ++j)
     for (int part = 0; part < rows[j].parts; ++part)
       for (int k = 0; k < 12; ++k) {
         const int dof = rows[j].offset[part] + k;
-        if (dof < from || dof >= n) continue;
-        (*Ht)(dof - from, j) += rows[j].h[part](k);
-        first = std::min(first, dof);
+        if (dof >= from && dof < n) (*Ht)(dof - from, j) += rows[j].h[part](k);
       }
-  return first;
 }
 
 }  // namespace
@@ -47,8 +42,8 @@ MatX transposedRows(int n, const std::vector<ContactRow>& rows) {
 
 void delassusOperator(const ChainFactor& factor, const std::vector<ContactRow>& rows, MatX* Y,
                       MatX* W) {
-  const int first = fillTransposedRows(factor.size(), rows, Y);
-  factor.solveInPlace(Y, first / 6);
+  fillTransposedRows(factor.size(), rows, Y);
+  factor.solveInPlace(Y, firstDof(factor.size(), rows) / 6);
   rowsTimes(rows, *Y, W);
 }
 
@@ -71,7 +66,7 @@ void rowsTimes(const std::vector<ContactRow>& rows, const MatX& Y, MatX* W, int 
 void delassusOperator(const ChainFactor& factor, const std::vector<ContactRow>& rows,
                       TrailingSolve* Y, MatX* W) {
   const int n = factor.size();
-  Y->first_block = std::min(firstDof(n, rows), n) / 6;
+  Y->first_block = firstDof(n, rows) / 6;
   const int from = 6 * Y->first_block;
   fillTransposedRows(n, rows, &Y->Y, from);
   factor.solveTrailingInPlace(&Y->Y, Y->first_block);
