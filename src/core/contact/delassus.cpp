@@ -252,6 +252,26 @@ void sweepColumns(const ChainInverse& inverse, const std::vector<Part>& parts,
   auto add = [&](const Part& pa, const Part& pb, double w) {
     W.col(pa.row)(pb.row) += pb.row == pa.row && &pa != &pb ? 2.0 * w : w;
   };
+  // The same for runs of parts b, from their rows (contiguous) and each
+  // part's partner (the other part of its row, or -1): the partner's dot
+  // doubled beforehand, the run adds without a test.
+  std::vector<int> row_of(count), partner(count, -1), first_part_of_row(W.rows(), -1);
+  for (int k = 0; k < count; ++k) {
+    row_of[k] = parts[k].row;
+    int& first = first_part_of_row[parts[k].row];
+    if (first >= 0) {
+      partner[k] = first;
+      partner[first] = k;
+    } else {
+      first = k;
+    }
+  }
+  auto addRun = [&](int a, int begin, int end) {
+    const int p = partner[a];
+    if (p >= begin && p < end && p != a) dots(p) *= 2.0;
+    double* column = W.col(row_of[a]).data();
+    for (int b = begin; b < end; ++b) column[row_of[b]] += dots(b);
+  };
   for (int next = 0; next < count;) {
     const int i = parts[next].node;
     if (active > 0) {  // carry the transfer and the young columns down to node i
@@ -290,8 +310,8 @@ void sweepColumns(const ChainInverse& inverse, const std::vector<Part>& parts,
         dots.segment(settled_count, young).noalias() =
             here.middleCols(settled_count, young).transpose() * pa.lo +
             above.middleCols(settled_count, young).transpose() * pa.hi;
-        for (int b = 0; b < started; ++b) add(pa, parts[b], dots(b));
-        for (int b = a; b < active; ++b) add(pa, parts[b], dots(b));
+        addRun(a, 0, started);
+        addRun(a, a, active);
         continue;
       }
       for (int b : fresh_columns) {           // a kept row: with the fresh columns only
