@@ -125,6 +125,19 @@ inline const SamplePoint& contactPointOf(const Contact& c,
   return c.other_device >= 0 && !c.lumen ? c.self : samples[c.device][c.sample];
 }
 
+/// Rows the activation loop added after its first LCP (each cost a loop):
+/// wall planes (new crossings and second planes, tunnels), device pairs,
+/// an inner device's points beyond its outer device's lumen.
+struct LateRows {
+  int wall{0};
+  int pair{0};
+  int lumen{0};
+  LateRows& operator+=(const LateRows& o) {
+    wall += o.wall, pair += o.pair, lumen += o.lumen;
+    return *this;
+  }
+};
+
 struct ContactStats {
   int contacts{0};          // rows of the last LCP
   int active_contacts{0};   // with a positive force
@@ -147,6 +160,8 @@ struct ContactStats {
   double lumen_ms{0.0};      // coaxial lumen detection (part of detection_ms)
   int lumen_passes{0};       // coaxial lumen detection passes (effect 'coaxial')
   int on_demand_loops{0};    // loops whose W was formed column by column (columns_on_demand)
+  int first_rows{0};         // rows of the first loop's LCP
+  LateRows late_rows;        // rows the loop added after its first LCP, by kind
 };
 
 /// The LCP of the last activation loop (for dumps and offline comparisons).

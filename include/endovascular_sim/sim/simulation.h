@@ -103,6 +103,9 @@ struct StepStats {
   int tunnels{0};  // points whose path from x_t crossed a wall into another lumen, re-solved
   int on_demand_loops{0};  // activation loops whose W was formed column by column as the
                            // status method read them (contact.columns_on_demand)
+  int first_rows{0};       // rows of the first activation loop's LCP (of the last sub-step)
+  LateRows late_rows;      // rows the activation loops added after their first LCP, summed over
+                           // sub-steps: the contacts each loop found late, by kind
   bool asleep{false};      // the scene slept through this step (SleepOptions): nothing was solved
 };
 

@@ -262,6 +262,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     const LcpStatus status = solveForces(o, *contacts, sys, &lambda, st);
     st->lcp_ms += msSince(t0);
     st->contacts = sys.c;
+    if (loop == 1) st->first_rows = sys.c;
     if (pb.record)
       *pb.record = {sys.columns ? sys.columns->dense() : MatX(sys.W()), sys.q, lambda, sys.mu};
     // An unsolved LCP's answer (the regularised problem's) is an iterate
@@ -285,6 +286,13 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     st->lcp_status = last_status;
     solved = false;
   }
+  if (st->activation_loops > 0)
+    for (size_t i = st->first_rows; i < contacts->size(); ++i) {
+      const Contact& ct = (*contacts)[i];
+      ++(ct.lumen               ? st->late_rows.lumen
+         : ct.other_device >= 0 ? st->late_rows.pair
+                                : st->late_rows.wall);
+    }
   // The deepest wall penetration was measured by the last loop's pass over
   // the points at x (without contacts, no point crossed: 0).
   finishContacts(pb, s.x, contacts, st);

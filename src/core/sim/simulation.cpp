@@ -96,6 +96,8 @@ void addResults(const ContactStats& c, StepStats* s) {
   s->max_penetration_m = c.max_penetration_m;
   s->tunnels += c.tunnelled;
   s->on_demand_loops += c.on_demand_loops;
+  s->first_rows = c.first_rows;
+  s->late_rows += c.late_rows;
 }
 
 /// Device states a (sub-)step at one depth of halving works in: the new
