@@ -33,6 +33,7 @@ struct BenchStep {
   bool subdivided;  // the step was halved at least once
   bool asleep;      // the scene slept through it
   Phase phase;
+  LateRows late;  // rows its loops found after the first LCP, by kind
 };
 
 /// The p-th quantile (element p n of the sorted values; the median at 0.5).
@@ -61,8 +62,11 @@ void printTimes(const char* label, const std::vector<BenchStep>& steps, double d
 
 void printContacts(const std::vector<BenchStep>& steps) {
   std::vector<int> rows, forces;
-  int subdivided = 0, max_loops = 0, asleep = 0;
+  int subdivided = 0, max_loops = 0, asleep = 0, extra_loops = 0;
+  LateRows late;
   for (const BenchStep& b : steps) {
+    extra_loops += std::max(b.loops - 1, 0);
+    late += b.late;
     rows.push_back(b.rows);
     forces.push_back(b.forces);
     subdivided += b.subdivided;
@@ -74,6 +78,8 @@ void printContacts(const std::vector<BenchStep>& steps) {
       "most activation loops %d;  steps asleep %d\n",
       quantile(forces, 0.5), quantile(forces, 1.0), quantile(rows, 0.5), quantile(rows, 1.0),
       subdivided, max_loops, asleep);
+  std::printf("loops after the first %d, for the rows found late: wall %d, pair %d, lumen %d\n",
+              extra_loops, late.wall, late.pair, late.lumen);
 }
 
 /// Every phase and the whole stretch.
@@ -123,7 +129,7 @@ bool measure(const SceneModel& model, long warmup, long steps, bool strict,
                         : driveMoved(before, data.devices) ? Phase::kContact
                                                            : Phase::kInserted;
     record->push_back({s.wall_ms, s.contacts, s.active_contacts, s.activation_loops,
-                       s.subdivisions > 0, s.asleep, phase});
+                       s.subdivisions > 0, s.asleep, phase, s.late_rows});
   }
   return true;
 }
