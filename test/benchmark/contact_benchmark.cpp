@@ -99,6 +99,45 @@ void BM_DelassusChain(benchmark::State& st) {
   st.counters["difference"] = (W - s.W).norm() / s.W.norm();  // to the block solve's
 }
 
+/// The band of A^-1 from the chain's factor alone (ChainInverse::computeFrom,
+/// as a loop that switches to the band pays it), on the 200-element wire.
+void BM_DelassusBandFromFactor(benchmark::State& st) {
+  ContactSpace& s = space(static_cast<int>(st.range(0)));
+  ChainInverse inverse;
+  for (auto _ : st) {
+    inverse.computeFrom(s.ws.factor);
+    benchmark::DoNotOptimize(&inverse);
+  }
+}
+
+/// The sweep alone, the band given (a later loop of the step with the same
+/// matrix): W from c rows.
+void BM_DelassusSweep(benchmark::State& st) {
+  ContactSpace& s = space(static_cast<int>(st.range(0)));
+  ChainInverse inverse;
+  inverse.computeFrom(s.ws.factor);
+  MatX W;
+  for (auto _ : st) {
+    chainDelassusOperator(inverse, s.rows, &W);
+    benchmark::DoNotOptimize(W.data());
+  }
+  st.counters["c"] = static_cast<double>(st.range(0));
+}
+
+/// The block solve over the rows' trailing blocks only (TrailingSolve, the
+/// contact solver's): c rows at random points of the wire.
+void BM_DelassusTrailingSolve(benchmark::State& st) {
+  ContactSpace& s = space(static_cast<int>(st.range(0)));
+  TrailingSolve Y;
+  MatX W;
+  for (auto _ : st) {
+    delassusOperator(s.ws.factor, s.rows, &Y, &W);
+    benchmark::DoNotOptimize(W.data());
+  }
+  st.counters["c"] = static_cast<double>(st.range(0));
+  st.counters["first_block"] = Y.first_block;
+}
+
 /// A loop's update of W on a 625-element chain (the packed coil's) with c
 /// rows (range(0)), the last f of them fresh (range(1)), by either path
 /// (range(2): 0 the fresh columns alone, 1 one sweep, 2 the automatic
@@ -251,6 +290,10 @@ BENCHMARK(BM_SceneSiconosPivot) SCENE_SIZES;
   ->Arg(10)->Arg(50)->Arg(100)->Arg(200)->Arg(400)->Unit(benchmark::kMicrosecond)
 BENCHMARK(BM_DelassusChain) CONTACT_SIZES;
 BENCHMARK(BM_DelassusBlockSolve) CONTACT_SIZES;
+#define FEW_CONTACTS ->Arg(2)->Arg(5)->Arg(10)->Arg(20)->Unit(benchmark::kMicrosecond)
+BENCHMARK(BM_DelassusBandFromFactor)->Arg(2)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_DelassusSweep) FEW_CONTACTS;
+BENCHMARK(BM_DelassusTrailingSolve) FEW_CONTACTS;
 BENCHMARK(BM_DelassusUpdate)
     ->ArgsProduct({{100, 300, 500}, {1, 5, 10, 20, 40, 80}, {0, 1, 2}})
     ->Unit(benchmark::kMicrosecond);

@@ -30,16 +30,18 @@
 //   until     no point lies beyond the wall by more than the tolerance, or
 //             N loops (the caller then subdivides the time step).
 //
-// W is formed per device, A^-1 never: from 16 rows on, from the band of
-// A^-1 (mechanics/chain_inverse.h, once a step; for A + C whenever the
-// wall's curvature term is updated, options.curvature_loops), in one sweep
-// down the chain; while the band stays, rows unchanged since the last loop
-// keep their entries (contact/delassus.h). Below 16 rows, where the band's
-// O(n) cost dominates, from one block solve Y = A^-1 H^T with the stored
-// CHOLMOD factor. The correction A^-1 H^T lambda is Y lambda, or one solve
-// with the block LDL^T the band came from; A + C for a device with the band
-// is factorised there alone (its free motion solved with it), not also by
-// CHOLMOD.
+// W is formed per device, A^-1 never: from the band of A^-1
+// (mechanics/chain_inverse.h, once a step; for A + C whenever the wall's
+// curvature term is updated, options.curvature_loops), in one sweep down
+// the chain, where that costs less than the block solve Y = A^-1 H^T with
+// the device's chain factor (O(c n) for c rows: a wire touching near its
+// tip, or a few rows in the first loop; in the loops after the first the
+// band is already there, or serves the loops to come). While the band
+// stays, rows unchanged since the last loop keep their entries
+// (contact/delassus.h). The correction A^-1 H^T lambda is Y lambda, or one
+// solve with the block LDL^T the band came from; A + C of a device with 16
+// contacts or more is factorised with its band at once (its free motion
+// solved with it), not first as a chain factor alone.
 #pragma once
 
 #include <string>

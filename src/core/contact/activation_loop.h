@@ -37,11 +37,12 @@ inline double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-/// Rows of one device from which W comes from the band of A^-1 (one O(n)
-/// selected inversion per matrix, then the sweep) rather than from the
-/// block solve Y = A^-1 H^T (O(c n) triangular solves): the two cost the
-/// same at about 16 rows on a 200-element wire (BM_Delassus*).
-constexpr int kChainDelassusMinRows = 16;
+/// Contacts of one device from which its A + C (the wall's curvature) is
+/// factorised as the band of (A + C)^-1 with its block LDL^T at once,
+/// rather than as a chain factor alone: W will come from the band
+/// (contact_system.cpp, fromBand: the block solve costs c (n - f)
+/// column-blocks, the band 4 n and its sweep 24 c).
+constexpr int kChainCurvedBandRows = 16;
 
 /// What a device's workspace band (ws.inverse) holds: nothing valid, the
 /// band of A^-1, of (A + C)^-1.
@@ -98,6 +99,7 @@ struct LoopState {
   std::vector<VecX> dq_free;   // per device: the free motion x_f - x_t
   std::vector<VecX> dq;        // the loop's iterate x - x_t
   std::vector<DeviceState> x;  // x_t (+) dq: the configuration the rows are linearised at
+  int loop{0};                 // the activation loop under way (1, 2, ...)
   bool held_placed{false};     // x holds the held nodes (placeIterate)
   SamplePositions at_start;    // the points at x_t
   SamplePositions at_x;        // and at x (reset with it)

@@ -245,6 +245,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   const WorkspaceStorageLease lease(&ws, &s.last_W);
   for (int loop = 1; loop <= o.max_activation_loops && !solved; ++loop) {
     st->activation_loops = loop;
+    s.loop = loop;
     LoopSystem sys;
     sys.c = static_cast<int>(contacts->size());
     sys.m = dim * sys.c;

@@ -33,8 +33,8 @@ bool sameRow(const ContactRow& a, const ContactRow& b) {
 /// C (contact/wall_curvature.h) of the wall contacts with a force, per
 /// device; A + C into the workspace's `curved_system`. (*curved)[d] says
 /// whether device d has such a term (else A alone). A + C is factorised
-/// where W will need it: for a device with at least kChainDelassusMinRows
-/// contacts, as its band (ws.inverse, whose block LDL^T also serves the
+/// where W will likely need it: for a device with at least
+/// kChainCurvedBandRows contacts, as its band (ws.inverse, whose block LDL^T also serves the
 /// solves), else by CHOLMOD (`curved`). (*band)[d] is updated; a band of
 /// A + C left from before becomes kNone.
 void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& contacts,
@@ -101,7 +101,7 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
       Ac.diag[e + 1] += Ce.bottomRightCorner<6, 6>();
     }
     // (C is positive semi-definite, so this should not fail; if it does, A.)
-    if (rows[d] >= kChainDelassusMinRows) {
+    if (rows[d] >= kChainCurvedBandRows) {
       const bool ok = w.inverse.compute(Ac, first, &w.factor, m - first);
       (*band)[d] = ok ? Band::kOfCurved : Band::kNone;
       if (ok) {
@@ -277,14 +277,36 @@ void ensureBand(const ContactProblem& pb, size_t d, LoopState* s, const LoopSyst
   s->last_W[d].size = 0;
 }
 
-/// Device d's operator H_d A^-1 H_d^T: from the block solve below
-/// kChainDelassusMinRows rows (*Wd, and Y), else from the band (kept in
-/// s->last_W[d] for the next loop; returned).
+/// Whether device d's operator comes from the band of A^-1 rather than
+/// from the block solve, by their cost in column-blocks (one right-hand
+/// side through one node of the chain's solve): the block solve c (n - f)
+/// for c rows whose first node is f of n; the band 4 n where it is not yet
+/// there for this loop's matrix (ensureBand), and its sweep 24 c. On the
+/// 200-element wire of the benchmarks the solve costs 0.021 us a
+/// column-block, the band from the factor 17.2 us, the sweep 0.5 us a row
+/// (BM_DelassusTrailingSolve, BM_DelassusBandFromFactor, BM_DelassusSweep).
+/// From the second loop on the band is counted at half: a step that loops
+/// again keeps it for the loops after (the matrix stays: curvature_loops).
+bool fromBand(size_t d, const LoopState& s, const LoopSystem& sys) {
+  const std::vector<ContactRow>& rows = sys.rows_of[d];
+  const int c = static_cast<int>(rows.size());
+  const int n = sys.factor[d]->size() / 6;
+  int f = n;
+  for (const ContactRow& row : rows)
+    for (int part = 0; part < row.parts; ++part) f = std::min(f, std::max(0, row.offset[part] / 6));
+  const Band wanted = s.curved[d] ? Band::kOfCurved : Band::kOfA;
+  const double band = s.band[d] == wanted ? 0.0 : s.loop >= 2 ? 2.0 * n : 4.0 * n;
+  return band + 24.0 * c < static_cast<double>(c) * (n - f);
+}
+
+/// Device d's operator H_d A^-1 H_d^T: from the block solve (*Wd, and Y)
+/// or from the band (fromBand; kept in s->last_W[d] for the next loop;
+/// returned).
 const DelassusBuffer* deviceOperator(const ContactProblem& pb, size_t d, LoopState* s,
                                      LoopSystem* sys, MatX* Wd) {
   auto& ws = *pb.workspaces;
   const std::vector<ContactRow>& device_rows = sys->rows_of[d];
-  if (static_cast<int>(device_rows.size()) < kChainDelassusMinRows) {
+  if (!fromBand(d, *s, *sys)) {
     delassusOperator(*sys->factor[d], device_rows, &sys->Y[d], Wd);
     return nullptr;
   }
@@ -354,7 +376,7 @@ void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopS
       if (parts[d].empty()) continue;
       deviceRows(parts[d], (*pb.workspaces)[d].first_free_node, rows, &column_of_row,
                  &sys->of_device[d], &sys->rows_of[d]);
-      if (static_cast<int>(sys->rows_of[d].size()) < kChainDelassusMinRows) {
+      if (!fromBand(d, *s, *sys)) {
         MatX Wd;
         delassusOperator(*sys->factor[d], sys->rows_of[d], &sys->Y[d], &Wd);
         sys->columns->addDense(std::move(Wd), &sys->of_device[d]);
