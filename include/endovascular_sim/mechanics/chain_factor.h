@@ -36,8 +36,10 @@ class ChainFactor {
   const Mat6& transfer(int i) const { return transfer_[i]; }
   /// D_i^-1.
   const Mat6& pivotInverse(int i) const { return d_inv_[i]; }
-  /// b <- A^-1 b (size() entries): forward through L, D^-1, back through L^T.
-  void solveInPlace(VecX* b) const;
+  /// b <- A^-1 b (size() entries): forward through L, D^-1, back through
+  /// L^T; b's blocks before first_nonzero are zero (the forward pass and
+  /// D^-1 start there).
+  void solveInPlace(VecX* b, int first_nonzero = 0) const;
   /// X = A^-1 B for a block of right-hand sides (size() x k).
   void solve(const MatX& B, MatX* X) const;
   /// X <- A^-1 X (size() x k), whose blocks before first_nonzero are zero

@@ -117,8 +117,10 @@ void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& c
 /// curvature term: (*dq_step)[d] = (A + C)^-1 (A dq_free + C dq_k), and
 /// their factor that of A + C. Others keep A and dq_free. The solve uses
 /// the band's block LDL^T where it holds A + C, else the device's factor
-/// of A + C. Both products run over the free nodes only (dq_free and dq_k
-/// taken as zero on the held ones).
+/// of A + C. Over the free nodes only (dq_free and dq_k taken as zero on
+/// the held ones), as dq_free + (A + C)^-1 C (dq_k - dq_free): C has a few
+/// blocks, so the right-hand side is zero before the first of them (the
+/// forward pass starts there) and A's product is not formed.
 void curvedFreeMotion(const ContactProblem& pb, const std::vector<CurvatureTerm>& C,
                       const std::vector<char>& curved, const std::vector<Band>& band,
                       const std::vector<VecX>& dq, std::vector<VecX>* dq_step,
@@ -127,28 +129,22 @@ void curvedFreeMotion(const ContactProblem& pb, const std::vector<CurvatureTerm>
   for (size_t d = 0; d < curved.size(); ++d) {
     if (!curved[d]) continue;
     DeviceWorkspace& w = ws[d];
-    const ChainMatrix& A = w.system;
-    const int n = w.factor.size(), first = w.first_free_node, blocks = A.numBlocks();
-    const VecX& free = (*dq_step)[d];
-    VecX rhs = VecX::Zero(n);  // (A dq_free + C dq_k) on the free nodes
-    for (int i = first; i < blocks; ++i) {
-      const int r = 6 * (i - first);
-      rhs.segment<6>(r).noalias() += A.diag[i] * free.segment<6>(6 * i);
-      if (i + 1 == blocks) continue;
-      rhs.segment<6>(r).noalias() += A.upper[i] * free.segment<6>(6 * i + 6);
-      rhs.segment<6>(r + 6).noalias() += A.upper[i].transpose() * free.segment<6>(6 * i);
-    }
+    const int n = w.factor.size(), first = w.first_free_node;
+    VecX& step = (*dq_step)[d];  // dq_free on entry
+    VecX rhs = VecX::Zero(n);    // C (dq_k - dq_free) on the free nodes
+    int first_nonzero = n / 6;
     for (size_t k = 0; k < C[d].element.size(); ++k) {
       const int e = C[d].element[k];
-      Vec12 iterate = dq[d].segment<12>(6 * e);
-      if (e < first) iterate.head<6>().setZero();  // a held node
-      const Vec12 y = C[d].block[k] * iterate;
+      Vec12 towards = dq[d].segment<12>(6 * e) - step.segment<12>(6 * e);
+      if (e < first) towards.head<6>().setZero();  // a held node
+      const Vec12 y = C[d].block[k] * towards;
       if (e >= first) rhs.segment<6>(6 * (e - first)) += y.head<6>();
       rhs.segment<6>(6 * (e + 1 - first)) += y.tail<6>();
+      first_nonzero = std::min(first_nonzero, std::max(e - first, 0));
     }
     (*factor)[d] = band[d] == Band::kOfCurved ? &w.inverse.factor() : &w.curved;
-    (*factor)[d]->solveInPlace(&rhs);
-    (*dq_step)[d].tail(n) = rhs;
+    (*factor)[d]->solveInPlace(&rhs, first_nonzero);
+    step.tail(n) += rhs;
   }
 }
 }  // namespace

@@ -80,12 +80,14 @@ bool ChainFactor::factorize(const ChainMatrix& A, int first, const ChainFactor* 
   return true;
 }
 
-void ChainFactor::solveInPlace(VecX* b) const {
+void ChainFactor::solveInPlace(VecX* b, int first_nonzero) const {
   const int n = numBlocks();
-  // L y = b: y_{i+1} = b_{i+1} - L_{i+1} y_i = b_{i+1} + transfer(i)^T y_i.
-  for (int i = 0; i + 1 < n; ++i)
+  // L y = b: y_{i+1} = b_{i+1} - L_{i+1} y_i = b_{i+1} + transfer(i)^T y_i
+  // (zero before the first nonzero block, as D^-1 y there).
+  for (int i = std::max(first_nonzero, 0); i + 1 < n; ++i)
     b->segment<6>(6 * i + 6).noalias() += transfer_[i].transpose() * b->segment<6>(6 * i);
-  for (int i = 0; i < n; ++i) b->segment<6>(6 * i) = d_inv_[i] * b->segment<6>(6 * i);
+  for (int i = std::max(first_nonzero, 0); i < n; ++i)
+    b->segment<6>(6 * i) = d_inv_[i] * b->segment<6>(6 * i);
   // L^T x = z: x_i = z_i - L_{i+1}^T x_{i+1} = z_i + transfer(i) x_{i+1}.
   for (int i = n - 2; i >= 0; --i)
     b->segment<6>(6 * i).noalias() += transfer_[i] * b->segment<6>(6 * i + 6);
