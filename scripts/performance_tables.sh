@@ -12,18 +12,20 @@ mkdir -p "$out"
 export PATH="/usr/bin:$PATH"
 evsim=$repo/build/ws/devel/lib/endovascular_sim/evsim
 for scene in carotid carotid_selective carotid_catheter network aneurysm aneurysm_coiling \
-             patient_example dead_end tortuous aneurysm_packed large_step; do
+             patient_example dead_end tortuous large_step; do
   echo "== evsim bench $scene"
   "$evsim" bench "$scene" | tee "$out/bench_$scene.txt" || true  # a failed step is reported
 done
 echo "== evsim bench carotid --no-sleep"
 "$evsim" bench carotid --no-sleep | tee "$out/bench_carotid_no_sleep.txt"
+echo "== evsim bench aneurysm_packed --min-rows 300 --against carotid"
+"$evsim" bench aneurysm_packed --min-rows 300 --against carotid | tee "$out/bench_aneurysm_packed.txt"
 echo "== evsim bench aneurysm_packed --warmup 11000 --steps 3000 --against carotid"
 "$evsim" bench aneurysm_packed --warmup 11000 --steps 3000 --against carotid \
   | tee "$out/bench_aneurysm_packed_11_14.txt"
-echo "== evsim bench aneurysm_packed --warmup 13000 --steps 1000 --min-rows 300 --against carotid"
-"$evsim" bench aneurysm_packed --warmup 13000 --steps 1000 --min-rows 300 --against carotid \
-  | tee "$out/bench_aneurysm_packed_13_14.txt"
+echo "== evsim bench aneurysm_packed --warmup 14400 --steps 900 --min-rows 300 --against carotid"
+"$evsim" bench aneurysm_packed --warmup 14400 --steps 900 --min-rows 300 --against carotid \
+  | tee "$out/bench_aneurysm_packed_14_15.txt"
 # The autopilot's procedures from the femoral access (docs/navigation.md):
 # every step, summed up by scripts/step_summary.py.
 for target in left_common_carotid left_subclavian right_common_carotid right_subclavian; do

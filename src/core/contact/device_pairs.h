@@ -2,7 +2,8 @@
 // contact solver, contact_solver.cpp): sample points closer than the sum of
 // their radii, or (contact.element_pairs) elements whose axes come closer
 // than that, found from their boxes and made contacts at the closest points
-// of the two axes.
+// of the two axes. The searches: device_pairs.cpp; the axes' distances and
+// first touch: axis_distance.cpp.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -122,7 +123,7 @@ struct Touch {
   double xi_a{0.0}, xi_b{0.0};  // the closest points there
   Vec3 normal{Vec3::Zero()};    // from b toward a there
 };
-/// Conservative advancement (see device_pairs.cpp); `speed` [m] bounds how
+/// Conservative advancement (see axis_distance.cpp); `speed` [m] bounds how
 /// far any point of axis a moves relative to any point of axis b over the
 /// whole path (from ElementRef::sweep, shift and spread of both).
 Touch firstTouch(const HermiteAxis& a0, const HermiteAxis& a1, const HermiteAxis& b0,
@@ -151,14 +152,24 @@ class StartAxes {
 /// it was built (the pairs of two held elements left out); reused while
 /// every element is free or held as it was there and its box stays within
 /// its box there grown by the skin (device_pairs.cpp).
+///
+/// Each candidate also keeps a lower bound of its axes' distance from the
+/// last pass that measured it, less how far both axes had moved from where
+/// the list was built (`slack`): an axis is a cubic Bezier curve, so none
+/// of its points moved farther than its farthest control point (`drift`),
+/// and the distance now is at least slack less both drifts now. A pass
+/// skips the candidates that bound keeps apart (findPairs).
 struct PairCandidates {
-  double skin{0.0};                       // [m]
-  double reach{-1.0};                     // the reach it was built for [m] (< 0: none)
-  std::vector<std::vector<int>> slot;     // per device and element: its index below, or -1
-  std::vector<Eigen::AlignedBox3d> box;   // per element when built: its box grown by the skin
-  std::vector<char> free;                 // and whether it was free
-  std::vector<std::array<int, 2>> pairs;  // the candidates (indices above)
+  double skin{0.0};                          // [m]
+  double reach{-1.0};                        // the reach it was built for [m] (< 0: none)
+  std::vector<std::vector<int>> slot;        // per device and element: its index below, or -1
+  std::vector<Eigen::AlignedBox3d> box;      // per element when built: its box grown by the skin
+  std::vector<char> free;                    // and whether it was free
+  std::vector<std::array<Vec3, 4>> control;  // and its axis' Bezier control points [m]
+  std::vector<std::array<int, 2>> pairs;     // the candidates (indices above)
+  std::vector<double> slack;                 // per candidate [m] (-inf: not yet measured)
   int builds{0}, reuses{0};
+  long kept_apart{0};  // candidates a pass skipped on their slack
 };
 
 /// Pairs of elements, at least one of them free, whose axes at x come
