@@ -74,14 +74,22 @@ ContactSpace& space(int c, int elements = 200) {
   return s;
 }
 
-void BM_DelassusBlockSolve(benchmark::State& st) {
+/// W from the block solve into *Y: Y over the whole chain (MatX), or over
+/// the rows' trailing blocks only (TrailingSolve, the contact solver's).
+template <typename Solved>
+void timeBlockSolve(benchmark::State& st, Solved* Y) {
   ContactSpace& s = space(static_cast<int>(st.range(0)));
-  MatX Y, W;
+  MatX W;
   for (auto _ : st) {
-    delassusOperator(s.ws.factor, s.rows, &Y, &W);
+    delassusOperator(s.ws.factor, s.rows, Y, &W);
     benchmark::DoNotOptimize(W.data());
   }
   st.counters["c"] = static_cast<double>(st.range(0));
+}
+
+void BM_DelassusBlockSolve(benchmark::State& st) {
+  MatX Y;
+  timeBlockSolve(st, &Y);
 }
 
 /// The contact solver's way: the band of A^-1 (its cost included) and the
@@ -124,17 +132,11 @@ void BM_DelassusSweep(benchmark::State& st) {
   st.counters["c"] = static_cast<double>(st.range(0));
 }
 
-/// The block solve over the rows' trailing blocks only (TrailingSolve, the
-/// contact solver's): c rows at random points of the wire.
+/// The block solve over the rows' trailing blocks only (c rows at random
+/// points of the wire).
 void BM_DelassusTrailingSolve(benchmark::State& st) {
-  ContactSpace& s = space(static_cast<int>(st.range(0)));
   TrailingSolve Y;
-  MatX W;
-  for (auto _ : st) {
-    delassusOperator(s.ws.factor, s.rows, &Y, &W);
-    benchmark::DoNotOptimize(W.data());
-  }
-  st.counters["c"] = static_cast<double>(st.range(0));
+  timeBlockSolve(st, &Y);
   st.counters["first_block"] = Y.first_block;
 }
 

@@ -193,6 +193,32 @@ ElementRef elementRef(const DeviceModel& m, const DeviceState& x, int device, co
   return el;
 }
 
+/// Two random chains of 150 nodes in a 3 mm cube, each element with a
+/// radius of 100-150 um (the kept candidates' tests).
+struct TwoChains {
+  std::vector<DeviceModel> devices;
+  std::vector<DeviceState> x{2};
+  std::vector<SamplePoint> points;  // per element of both chains, in order
+
+  explicit TwoChains(std::mt19937* rng) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int device = 0; device < 2; ++device) {
+      devices.push_back(randomChain(150, 5e-4, 3e-3, rng, &x[device]));
+      for (int e = 0; e + 1 < 150; ++e) points.push_back({e, 0.0, 1e-4 + 5e-5 * u(*rng), 0.0});
+    }
+  }
+  /// Their elements at `at`, the first `held` of each chain held (as in an
+  /// introducer).
+  std::vector<ElementRef> elementsAt(const std::vector<DeviceState>& at, int held) const {
+    std::vector<ElementRef> els;
+    for (int device = 0; device < 2; ++device)
+      for (int e = 0; e + 1 < 150; ++e)
+        els.push_back(
+            elementRef(devices[device], at[device], device, points[149 * device + e], e >= held));
+    return els;
+  }
+};
+
 /// Every pair of elements i < j under the documented rules (one free, not
 /// in the other device's lumen, the axes closer than r_i + r_j + margin,
 /// on one device more than 2 (r_i + r_j) + 2 element lengths apart along
@@ -353,26 +379,13 @@ TEST(DevicePairs, CandidatesKeptFromPassToPassFindTheBruteForcePairs) {
   // within its grown box, else rebuilt. Either way the pairs equal the
   // brute force's at each pass.
   std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(0.0, 1.0), jitter(-1.0, 1.0);
+  std::uniform_real_distribution<double> jitter(-1.0, 1.0);
   int found = 0;
   pairs::PairCandidates candidates;
   for (int trial = 0; trial < 8; ++trial) {
-    std::vector<DeviceModel> devices;
-    std::vector<DeviceState> x(2);
-    std::vector<SamplePoint> points;
-    for (int device = 0; device < 2; ++device) {
-      devices.push_back(randomChain(150, 5e-4, 3e-3, &rng, &x[device]));
-      for (int e = 0; e + 1 < 150; ++e) points.push_back({e, 0.0, 1e-4 + 5e-5 * u(rng), 0.0});
-    }
-    // The first 20 elements of each chain held (as in an introducer), or none.
-    auto elementsAt = [&](const std::vector<DeviceState>& at, int held) {
-      std::vector<ElementRef> els;
-      for (int device = 0; device < 2; ++device)
-        for (int e = 0; e + 1 < 150; ++e)
-          els.push_back(
-              elementRef(devices[device], at[device], device, points[149 * device + e], e >= held));
-      return els;
-    };
+    const TwoChains chains(&rng);
+    const std::vector<DeviceModel>& devices = chains.devices;
+    const std::vector<DeviceState>& x = chains.x;
     candidates.reach = -1.0;  // a new step
     const int builds = candidates.builds, reuses = candidates.reuses;
     // Built here, then nodes moved by up to 0.2 and 5 skins; then, where
@@ -388,7 +401,7 @@ TEST(DevicePairs, CandidatesKeptFromPassToPassFindTheBruteForcePairs) {
             p += moved * candidates.skin / std::sqrt(3.0) *
                  Vec3(jitter(rng), jitter(rng), jitter(rng));
       }
-      const std::vector<ElementRef> els = elementsAt(at, moved >= 0.0 ? 20 : 0);
+      const std::vector<ElementRef> els = chains.elementsAt(at, moved >= 0.0 ? 20 : 0);
       found += expectSamePairs(pairs::findPairs(devices, at, els, 0.0, nullptr, true, &candidates),
                                bruteForcePairs(devices, at, els, 0.0));
     }
@@ -409,31 +422,18 @@ TEST(DevicePairs, CandidatesKeptApartByTheirSlackFindTheBruteForcePairs) {
   // built, still keeps it apart is skipped. The pairs equal the brute
   // force's at every pass and margin, and most candidates are skipped.
   std::mt19937 rng(23);
-  std::uniform_real_distribution<double> u(0.0, 1.0), jitter(-1.0, 1.0);
+  std::uniform_real_distribution<double> jitter(-1.0, 1.0);
   int found = 0, passes = 0;
   long kept_apart = 0, checked = 0;
   for (int trial = 0; trial < 6; ++trial) {
     pairs::PairCandidates candidates;
-    std::vector<DeviceModel> devices;
-    std::vector<DeviceState> x(2);
-    std::vector<SamplePoint> points;
-    for (int device = 0; device < 2; ++device) {
-      devices.push_back(randomChain(150, 5e-4, 3e-3, &rng, &x[device]));
-      for (int e = 0; e + 1 < 150; ++e) points.push_back({e, 0.0, 1e-4 + 5e-5 * u(rng), 0.0});
-    }
-    auto elementsAt = [&](const std::vector<DeviceState>& at) {
-      std::vector<ElementRef> els;
-      for (int device = 0; device < 2; ++device)
-        for (int e = 0; e + 1 < 150; ++e)
-          els.push_back(
-              elementRef(devices[device], at[device], device, points[149 * device + e], e >= 20));
-      return els;
-    };
+    const TwoChains chains(&rng);
+    const std::vector<DeviceModel>& devices = chains.devices;
     // Built at x with the largest margin, then 12 passes, each moving every
     // node by up to a twentieth of the skin from the last (a random walk
     // that stays within the skin), at margins 5e-5, 0 and -1e-6 in turn.
-    std::vector<DeviceState> at = x;
-    pairs::findPairs(devices, at, elementsAt(at), 5e-5, nullptr, true, &candidates);
+    std::vector<DeviceState> at = chains.x;
+    pairs::findPairs(devices, at, chains.elementsAt(at, 20), 5e-5, nullptr, true, &candidates);
     const long before = candidates.kept_apart;
     for (int pass = 0; pass < 12; ++pass) {
       const double margin = pass % 3 == 0 ? 5e-5 : pass % 3 == 1 ? 0.0 : -1e-6;
@@ -442,7 +442,7 @@ TEST(DevicePairs, CandidatesKeptApartByTheirSlackFindTheBruteForcePairs) {
         for (Vec3& p : state.position)
           p +=
               0.05 * candidates.skin / std::sqrt(3.0) * Vec3(jitter(rng), jitter(rng), jitter(rng));
-      const std::vector<ElementRef> els = elementsAt(at);
+      const std::vector<ElementRef> els = chains.elementsAt(at, 20);
       found +=
           expectSamePairs(pairs::findPairs(devices, at, els, margin, nullptr, true, &candidates),
                           bruteForcePairs(devices, at, els, margin));
