@@ -105,10 +105,11 @@ bool driveMoved(const std::vector<DeviceState>& before, const std::vector<Device
   return false;
 }
 
-/// Steps `model` from its start: `warmup` steps, then `steps` recorded.
-/// False (the reason on stderr) when a step fails.
+/// Steps `model` from its start: `warmup` steps, then `steps` recorded;
+/// *tips (when given): each device's tip at the end [m]. False (the reason
+/// on stderr) when a step fails.
 bool measure(const SceneModel& model, long warmup, long steps, bool strict,
-             std::vector<BenchStep>* record, int* recoveries) {
+             std::vector<BenchStep>* record, int* recoveries, std::vector<Vec3>* tips = nullptr) {
   SimData data = makeData(model);
   bool touched = false;  // a contact so far
   record->reserve(steps);
@@ -131,6 +132,10 @@ bool measure(const SceneModel& model, long warmup, long steps, bool strict,
     record->push_back({s.wall_ms, s.contacts, s.active_contacts, s.activation_loops,
                        s.subdivisions > 0, s.asleep, phase, s.late_rows});
   }
+  if (tips) {
+    tips->clear();
+    for (const DeviceState& d : data.devices) tips->push_back(d.position.back());
+  }
   return true;
 }
 
@@ -138,6 +143,56 @@ double medianMs(const std::vector<BenchStep>& steps) {
   std::vector<double> ms;
   for (const BenchStep& b : steps) ms.push_back(b.ms);
   return quantile(ms, 0.5);
+}
+
+double p99Ms(const std::vector<BenchStep>& steps) {
+  std::vector<double> ms;
+  for (const BenchStep& b : steps) ms.push_back(b.ms);
+  return quantile(ms, 0.99);
+}
+
+/// The scene's copies whose script speeds differ by k 1e-9 (k = 1..copies):
+/// each one's median, p99, worst step, extra loops and halved steps, and
+/// how far its tips end from the scene's; then the range over all. A coil's
+/// path is chaotic: its p99 moves as much between such copies as between
+/// builds that differ by round-off. False when a step fails.
+bool benchCopies(const SceneSpec& spec, const BenchOptions& o, long steps,
+                 const std::vector<BenchStep>& record, const std::vector<Vec3>& tips) {
+  std::printf("copies (the script's speeds x (1 + k 1e-9)):\n");
+  double median_low = medianMs(record), median_high = median_low;
+  double p99_low = p99Ms(record), p99_high = p99_low;
+  for (int k = 1; k <= o.copies; ++k) {
+    SceneSpec copy = spec;
+    perturbScript(&copy, 1e-9 * k);
+    const SceneModel model = buildSceneModel(copy);
+    std::vector<BenchStep> copy_record;
+    std::vector<Vec3> copy_tips;
+    int recoveries = 0;
+    if (!measure(model, o.warmup, steps, o.strict, &copy_record, &recoveries, &copy_tips))
+      return false;
+    int extra_loops = 0, halved = 0;
+    double worst = 0.0;
+    for (const BenchStep& b : copy_record) {
+      extra_loops += std::max(b.loops - 1, 0);
+      halved += b.subdivided;
+      worst = std::max(worst, b.ms);
+    }
+    double apart = 0.0;  // [m] the farthest tip from the scene's
+    for (size_t d = 0; d < tips.size() && d < copy_tips.size(); ++d)
+      apart = std::max(apart, (copy_tips[d] - tips[d]).norm());
+    const double median = medianMs(copy_record), p99 = p99Ms(copy_record);
+    std::printf(
+        "  copy %d: median %.3f  p99 %.3f  worst %.3f ms;  loops after the first %d;  steps "
+        "subdivided %d;  tips %.3g mm from the scene's\n",
+        k, median, p99, worst, extra_loops, halved, apart * 1e3);
+    median_low = std::min(median_low, median);
+    median_high = std::max(median_high, median);
+    p99_low = std::min(p99_low, p99);
+    p99_high = std::max(p99_high, p99);
+  }
+  std::printf("  the scene and its %d copies: median %.3f-%.3f ms, p99 %.3f-%.3f ms\n", o.copies,
+              median_low, median_high, p99_low, p99_high);
+  return true;
 }
 
 }  // namespace
@@ -158,7 +213,8 @@ int benchScene(const BenchOptions& o) {
   const long steps = o.steps > 0 ? o.steps : std::max(1L, whole - o.warmup);
   int recoveries = 0;  // steps solved with the recovery options
   std::vector<BenchStep> record;
-  if (!measure(model, o.warmup, steps, o.strict, &record, &recoveries)) return kExitFailure;
+  std::vector<Vec3> tips;
+  if (!measure(model, o.warmup, steps, o.strict, &record, &recoveries, &tips)) return kExitFailure;
   int elements = 0;
   for (const auto& d : model.devices) elements += d.num_nodes - 1;
   std::string effect_list;
@@ -181,6 +237,7 @@ int benchScene(const BenchOptions& o) {
     if (!large.empty()) printSummary(large, model.time_step);
     large_median = large.empty() ? 0.0 : medianMs(large);
   }
+  if (o.copies > 0 && !benchCopies(spec, o, steps, record, tips)) return kExitFailure;
   if (!o.against.empty()) {  // a second scene's whole procedure in the same run
     const SceneModel other = buildSceneModel(loadSceneFile(resolveScenePath(o.against)));
     const long other_steps = std::max(1L, std::lround(other.duration / other.time_step));

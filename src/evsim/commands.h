@@ -48,6 +48,7 @@ struct BenchOptions {
   bool strict{false};                  // no recovery step (see RunOptions::strict)
   bool no_sleep{false};                // every step solved, also at rest (SleepOptions)
   std::string against;                 // a second scene run whole in the same run: the ratio
+  int copies{0};  // also run copies whose script speeds differ by k 1e-9 (k = 1..copies)
 };
 /// `evsim bench`: step-time statistics over the whole scene and per phase.
 int benchScene(const BenchOptions& options);

@@ -94,6 +94,11 @@ void addBench(CLI::App& app, BenchOptions* o, std::string* what, double* duratio
       ->check(CLI::Range(1L, 1000000L));
   bench->add_option("--against", o->against,
                     "a second scene, run whole in the same run: the medians' ratio printed");
+  bench
+      ->add_option("--copies", o->copies,
+                   "also run N copies whose script speeds differ by k 1e-9 (k = 1..N): the "
+                   "spread of a chaotic scene's figures")
+      ->check(CLI::Range(0, 20));
   bench->add_flag("--strict", o->strict, "no recovery step: fail where the scene's options do");
   bench->add_flag("--no-sleep", o->no_sleep,
                   "solve every step, also once the scene is at rest (scene key sleep)");

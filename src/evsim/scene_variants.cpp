@@ -1,5 +1,6 @@
 // Variants of a scene for benchmarks and sweeps: the same scene with another
-// discretisation. Declared and documented in scene_variants.h.
+// discretisation, other effects, or its script's speeds perturbed. Declared and documented in
+// scene_variants.h.
 #include "scene_variants.h"
 
 #include <algorithm>
@@ -15,6 +16,14 @@ void setElementCount(SceneSpec* spec, int elements) {
     for (auto& sec : d.device.sections)
       sec.elements =
           std::max(1, static_cast<int>(std::lround(1.0 * sec.elements * elements / total)));
+  }
+}
+
+void perturbScript(SceneSpec* spec, double relative) {
+  for (ScriptedCommand& c : spec->script) {
+    if (c.detach || c.command.mode != DriveCommand::Mode::kVelocity) continue;
+    c.command.insertion *= 1.0 + relative;
+    c.command.rotation *= 1.0 + relative;
   }
 }
 

@@ -1,5 +1,5 @@
 // Variants of a scene for benchmarks and sweeps: the same scene with another
-// discretisation.
+// discretisation, other effects, or its script's speeds perturbed.
 #pragma once
 
 #include "endovascular_sim/scene/scene_file.h"
@@ -8,6 +8,11 @@ namespace evsim {
 
 /// Scales every device's element counts so that each has about `elements`.
 void setElementCount(SceneSpec* spec, int elements);
+
+/// Scales the speed of every velocity command of the script by (1 +
+/// relative): a copy of the scene whose path differs by round-off at
+/// first (`evsim bench --copies`).
+void perturbScript(SceneSpec* spec, double relative);
 
 /// Elements of the scene's first device.
 int elementCount(const SceneSpec& spec);

@@ -154,6 +154,36 @@ TEST(EvsimCli, BenchSortsTheStepsIntoPhases) {
   EXPECT_TRUE(says(selective, "  contact "));
 }
 
+TEST(EvsimCli, BenchCopiesOfASmoothPathEndApartByTheirSpeedsDifference) {
+  // carotid_selective's wire is pushed at 30 mm/s: over 0.8 s a copy whose
+  // speed is k 1e-9 larger inserts k 2.4e-11 m more, and on a path that is
+  // not chaotic its tip ends about that far from the scene's (it follows
+  // the insertion along the trunk: within 40 %).
+  const Outcome bench = evsim("bench carotid_selective --steps 800 --copies 2");
+  ASSERT_EQ(bench.code, 0) << bench.output;
+  for (int k = 1; k <= 2; ++k) {
+    const std::string label = "copy " + std::to_string(k) + ": ";
+    const size_t at = bench.output.find(label);
+    ASSERT_NE(at, std::string::npos) << bench.output;
+    const size_t tips = bench.output.find("tips ", at);
+    ASSERT_NE(tips, std::string::npos);
+    const double apart_mm = std::stod(bench.output.substr(tips + 5));
+    const double expected_mm = k * 1e-9 * 0.03 * 0.8 * 1e3;
+    EXPECT_GT(apart_mm, 0.6 * expected_mm) << label;
+    EXPECT_LT(apart_mm, 1.4 * expected_mm) << label;
+  }
+  const size_t range = bench.output.find("the scene and its 2 copies: median ");
+  ASSERT_NE(range, std::string::npos) << bench.output;
+  double low = 0.0, high = 0.0;
+  ASSERT_EQ(std::sscanf(bench.output.c_str() + range, "the scene and its 2 copies: median %lf-%lf",
+                        &low, &high),
+            2);
+  EXPECT_LE(low, high);
+  const Outcome many = evsim("bench carotid_selective --steps 10 --copies 21");
+  EXPECT_EQ(many.code, 2);  // out of range: refused with a message
+  EXPECT_TRUE(says(many, "--copies")) << many.output;
+}
+
 TEST(EvsimCli, AStepTheScenesOptionsCannotSolveIsRecoveredOrFailsWithStrict) {
   // carotid_selective with one PGS sweep: its first contact (t = 0.41 s)
   // is not solved by the scene's options; the recovery step solves it.
