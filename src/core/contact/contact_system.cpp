@@ -34,9 +34,10 @@ bool sameRow(const ContactRow& a, const ContactRow& b) {
 /// device; A + C into the workspace's `curved_system`. (*curved)[d] says
 /// whether device d has such a term (else A alone). A + C is factorised
 /// where W will likely need it: for a device with at least
-/// kChainCurvedBandRows contacts, as its band (ws.inverse, whose block LDL^T also serves the
-/// solves), else by CHOLMOD (`curved`). (*band)[d] is updated; a band of
-/// A + C left from before becomes kNone.
+/// kChainCurvedBandRows contacts, as its band (ws.inverse, whose block
+/// LDL^T also serves the solves), else as a chain factor (`curved`; the
+/// band follows from it if fromBand asks). (*band)[d] is updated; a band
+/// of A + C left from before becomes kNone.
 void factorWallCurvature(const ContactProblem& pb, const std::vector<Contact>& contacts,
                          const std::vector<DeviceState>& x, std::vector<CurvatureTerm>* C,
                          std::vector<char>* curved, std::vector<Band>* band) {
