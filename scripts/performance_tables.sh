@@ -35,5 +35,9 @@ for target in left_common_carotid left_subclavian right_common_carotid right_sub
   /usr/bin/python3 "$repo/scripts/step_summary.py" "$out/navigate_$target.json" | tee -a "$out/navigate_$target.txt"
 done
 set +u; source "$repo/build/ws/devel/setup.bash"; set -u
+if [ ! -x "$repo/build/ws/devel/lib/endovascular_sim/navigation_node" ]; then
+  echo "performance_tables.sh: the node is not built (bash scripts/build.sh builds the whole package)" >&2
+  exit 1
+fi
 echo "== scripts/node_benchmark.py"
 /usr/bin/python3 "$repo/scripts/node_benchmark.py" | tee "$out/node_benchmark.txt"
