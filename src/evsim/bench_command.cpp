@@ -139,17 +139,13 @@ bool measure(const SceneModel& model, long warmup, long steps, bool strict,
   return true;
 }
 
-double medianMs(const std::vector<BenchStep>& steps) {
+/// The p-th quantile of the steps' times [ms].
+double quantileMs(const std::vector<BenchStep>& steps, double p) {
   std::vector<double> ms;
   for (const BenchStep& b : steps) ms.push_back(b.ms);
-  return quantile(ms, 0.5);
+  return quantile(ms, p);
 }
-
-double p99Ms(const std::vector<BenchStep>& steps) {
-  std::vector<double> ms;
-  for (const BenchStep& b : steps) ms.push_back(b.ms);
-  return quantile(ms, 0.99);
-}
+double medianMs(const std::vector<BenchStep>& steps) { return quantileMs(steps, 0.5); }
 
 /// The scene's copies whose script speeds differ by k 1e-9 (k = 1..copies):
 /// each one's median, p99, worst step, extra loops and halved steps, and
@@ -160,7 +156,7 @@ bool benchCopies(const SceneSpec& spec, const BenchOptions& o, long steps,
                  const std::vector<BenchStep>& record, const std::vector<Vec3>& tips) {
   std::printf("copies (the script's speeds x (1 + k 1e-9)):\n");
   double median_low = medianMs(record), median_high = median_low;
-  double p99_low = p99Ms(record), p99_high = p99_low;
+  double p99_low = quantileMs(record, 0.99), p99_high = p99_low;
   for (int k = 1; k <= o.copies; ++k) {
     SceneSpec copy = spec;
     perturbScript(&copy, 1e-9 * k);
@@ -180,7 +176,7 @@ bool benchCopies(const SceneSpec& spec, const BenchOptions& o, long steps,
     double apart = 0.0;  // [m] the farthest tip from the scene's
     for (size_t d = 0; d < tips.size() && d < copy_tips.size(); ++d)
       apart = std::max(apart, (copy_tips[d] - tips[d]).norm());
-    const double median = medianMs(copy_record), p99 = p99Ms(copy_record);
+    const double median = medianMs(copy_record), p99 = quantileMs(copy_record, 0.99);
     std::printf(
         "  copy %d: median %.3f  p99 %.3f  worst %.3f ms;  loops after the first %d;  steps "
         "subdivided %d;  tips %.3g mm from the scene's\n",
