@@ -203,6 +203,12 @@ TEST_F(Loader, BloodViscosityOutOfRangeIsNamed) {
       "scene.yaml", 5, "blood_viscosity", "must lie in (0, 0.1] Pa s");
 }
 
+TEST_F(Loader, BloodDensityOutOfRangeIsNamed) {
+  expectNames(
+      sceneError("gravity: [0, 0, -9.81]\n", "gravity: [0, 0, -9.81]\nblood_density: 10600\n"),
+      "scene.yaml", 5, "blood_density", "must lie in [500, 2000] kg/m^3");
+}
+
 TEST_F(Loader, UnknownEffectIsNamed) {
   expectNames(sceneError("[gravity]", "[gravity, magnetism]"), "scene.yaml", 3, "effects[1]",
               "'magnetism' must be one of gravity, vessel_motion, device_contact");

@@ -84,8 +84,11 @@ struct DeviceModel {
   double max_rotation_speed{0.0};              // [rad/s]
   double rayleigh_mass{0.0};                   // [1/s]
   double rayleigh_stiffness{0.0};              // [s]
-  // Effect 'blood_drag' (mechanics/blood_drag.h): per node [N s/m]; empty: none.
+  // Effect 'blood_drag' (mechanics/blood_drag.h), per node; empty: none. Slender-body
+  // drag across and along [N s/m]; the cylinder's form drag 1/2 rho d times the node's
+  // length [kg/m] and rho d / mu [s/m] (its Reynolds number per unit speed).
   std::vector<double> node_drag_across, node_drag_along;
+  std::vector<double> node_drag_form, node_drag_reynolds;
   int detach_element{-1};  // cut on detach: the last element before detach_section (-1: none)
 };
 

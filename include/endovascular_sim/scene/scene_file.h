@@ -94,6 +94,7 @@ struct SceneSpec {
   std::vector<std::string> effects;  // names, validated
   Vec3 gravity{0.0, 0.0, -9.81};     // [m/s^2], used with effect 'gravity'
   double blood_viscosity{3.5e-3};    // [Pa s], used with effect 'blood_drag'
+  double blood_density{1060.0};      // [kg/m^3], used with effect 'blood_drag'
   VesselSpec vessels;
   ContactOptions contact;
   SleepOptions sleep;

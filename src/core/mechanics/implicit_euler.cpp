@@ -74,8 +74,9 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
   for (int i = std::max(held, 0); i < n; ++i) {
     const Mat6 M = nodeMass(model, state, i);
     A.diag[i] = cm * M + ck * ws->stiffness.diag[i];
-    if (!model.node_drag_across.empty())  // effect 'blood_drag': implicit, D v at the step's end
-      A.diag[i].topLeftCorner<3, 3>() += nodeDrag(model, i, state.rotation[i] * Vec3::UnitX()) / dt;
+    if (!model.node_drag_across.empty())  // effect 'blood_drag': D(v_t) v at the step's end
+      A.diag[i].topLeftCorner<3, 3>() +=
+          nodeDrag(model, i, state.rotation[i] * Vec3::UnitX(), state.velocity[i]) / dt;
     if (i + 1 < n) A.upper[i] = ck * ws->stiffness.upper[i];
     if (i < first_free) continue;
     Vec6 f = Vec6::Zero();

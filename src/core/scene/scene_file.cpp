@@ -451,7 +451,7 @@ SceneSpec readSceneFile(const std::string& path) {
   if (!root.IsMap()) r.fail(root, "", "a scene is a YAML map");
   r.keys(root, "",
          {"name", "description", "time_step", "duration", "effects", "gravity", "blood_viscosity",
-          "vessels", "contact", "sleep", "devices", "script", "targets", "xray"});
+          "blood_density", "vessels", "contact", "sleep", "devices", "script", "targets", "xray"});
   SceneSpec s;
   s.file = path;
   s.name = r.text(r.required(root, "name", "name"), "name");
@@ -465,6 +465,9 @@ SceneSpec readSceneFile(const std::string& path) {
   s.blood_viscosity = r.number(root, "blood_viscosity", "", s.blood_viscosity);
   if (!(s.blood_viscosity > 0.0 && s.blood_viscosity <= 0.1))
     r.fail(root["blood_viscosity"], "blood_viscosity", "must lie in (0, 0.1] Pa s");
+  s.blood_density = r.number(root, "blood_density", "", s.blood_density);
+  if (!(s.blood_density >= 500.0 && s.blood_density <= 2000.0))
+    r.fail(root["blood_density"], "blood_density", "must lie in [500, 2000] kg/m^3");
 
   const fs::path scene_dir = fs::path(path).parent_path();
   if (root["vessels"]) s.vessels = readVessels(r, root["vessels"], scene_dir);

@@ -57,6 +57,11 @@ std::vector<SchemaEntry> makeSchema() {
           .unit("Pa s")
           .def("3.5e-3")
           .in("(]", 0, 0.1),
+      Key("blood_density", T::kNumber,
+          "the still blood's density, used with the effect 'blood_drag' (docs/model.md)")
+          .unit("kg/m^3")
+          .def("1060")
+          .in("[]", 500, 2000),
 
       Key("vessels", T::kMap, "the vessels; without them the scene is free space"),
       Key("vessels.centerline", T::kText,

@@ -251,7 +251,8 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
   if (m.effects.vessel_motion) m.sleep.enabled = false;
   for (const auto& d : spec.devices) {
     m.devices.push_back(buildDeviceModel(d.device));
-    if (m.effects.blood_drag) setBloodDrag(spec.blood_viscosity, &m.devices.back());
+    if (m.effects.blood_drag)
+      setBloodDrag(Blood{spec.blood_viscosity, spec.blood_density}, &m.devices.back());
     m.introducers.push_back(d.introducer);
     m.drive_specs.push_back(d.drive);
     m.initial_inserted_length.push_back(d.inserted_length);
