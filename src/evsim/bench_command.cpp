@@ -14,6 +14,7 @@
 #include <iostream>
 #include <vector>
 
+#include "bench_windows.h"
 #include "commands.h"
 #include "endovascular_sim/sim/simulation.h"
 #include "scene_variants.h"
@@ -207,6 +208,21 @@ int benchScene(const BenchOptions& o) {
   const SceneModel model = buildSceneModel(spec);
   const long whole = std::max(1L, std::lround(model.duration / model.time_step));
   const long steps = o.steps > 0 ? o.steps : std::max(1L, whole - o.warmup);
+  std::vector<SceneModel> variants;  // --windows: checked before anything runs
+  if (!o.variants.empty() && o.windows == 0) {
+    std::cerr << "evsim bench: --variant needs --windows\n";
+    return kExitBadInput;
+  }
+  if (o.windows > 0 && steps < o.window_steps) {
+    std::cerr << "evsim bench: --windows needs at least --window-steps (" << o.window_steps
+              << ") measured steps, not " << steps << "\n";
+    return kExitBadInput;
+  }
+  const std::string why = loadVariants(model, o.variants, &variants);
+  if (!why.empty()) {
+    std::cerr << "evsim bench: " << why << "\n";
+    return kExitBadInput;
+  }
   int recoveries = 0;  // steps solved with the recovery options
   std::vector<BenchStep> record;
   std::vector<Vec3> tips;
@@ -234,6 +250,11 @@ int benchScene(const BenchOptions& o) {
     large_median = large.empty() ? 0.0 : medianMs(large);
   }
   if (o.copies > 0 && !benchCopies(spec, o, steps, record, tips)) return kExitFailure;
+  if (o.windows > 0) {
+    const int code = benchWindows(model, variants, {o.windows, o.window_steps, o.variants},
+                                  o.warmup, steps, o.strict);
+    if (code != kExitOk) return code;
+  }
   if (!o.against.empty()) {  // a second scene's whole procedure in the same run
     const SceneModel other = buildSceneModel(loadSceneFile(resolveScenePath(o.against)));
     const long other_steps = std::max(1L, std::lround(other.duration / other.time_step));

@@ -48,7 +48,10 @@ struct BenchOptions {
   bool strict{false};                  // no recovery step (see RunOptions::strict)
   bool no_sleep{false};                // every step solved, also at rest (SleepOptions)
   std::string against;                 // a second scene run whole in the same run: the ratio
-  int copies{0};  // also run copies whose script speeds differ by k 1e-9 (k = 1..copies)
+  int copies{0};          // also run copies whose script speeds differ by k 1e-9 (k = 1..copies)
+  int windows{0};         // also step the scene and its variants from this many of its run's states
+  long window_steps{10};  // steps from each window's state
+  std::vector<std::string> variants;  // scene files with the scene's devices (--variant)
 };
 /// `evsim bench`: step-time statistics over the whole scene and per phase.
 int benchScene(const BenchOptions& options);

@@ -99,6 +99,15 @@ void addBench(CLI::App& app, BenchOptions* o, std::string* what, double* duratio
                    "also run N copies whose script speeds differ by k 1e-9 (k = 1..N): the "
                    "spread of a chaotic scene's figures")
       ->check(CLI::Range(0, 20));
+  bench
+      ->add_option("--windows", o->windows,
+                   "also step the scene, and each --variant, from N states of its run spread "
+                   "over the measured stretch: a paired comparison where the path is chaotic")
+      ->check(CLI::Range(1, 1000));
+  bench->add_option("--window-steps", o->window_steps, "steps from each window's state")
+      ->check(CLI::Range(1L, 100000L));
+  bench->add_option("--variant", o->variants,
+                    "with --windows: a scene file with the scene's devices (other options)");
   bench->add_flag("--strict", o->strict, "no recovery step: fail where the scene's options do");
   bench->add_flag("--no-sleep", o->no_sleep,
                   "solve every step, also once the scene is at rest (scene key sleep)");

@@ -35,6 +35,26 @@ bool says(const Outcome& o, const std::string& words) {
   return o.output.find(words) != std::string::npos;
 }
 
+/// A copy of shipped scene `name` at `file`, its vessel and device paths
+/// made absolute, with `extra` appended (or, with `into_contact`, added to
+/// the scene's contact map).
+void writeSceneCopy(const std::string& name, const std::string& extra, const std::string& file,
+                    bool into_contact = false) {
+  namespace fs = std::filesystem;
+  const std::string scenes = std::string(EVSIM_TEST_DATA_DIR) + "/../../config/scenes/";
+  std::ifstream in(scenes + name + ".yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const char* what : {"../vessels/", "../devices/"}) {
+    const std::string to = fs::canonical(fs::path(scenes) / what).string() + "/";
+    for (size_t at; (at = text.find(what)) != std::string::npos;) text.replace(at, 11, to);
+  }
+  if (into_contact)
+    text.insert(text.find("contact:\n") + 9, extra);
+  else
+    text += extra;
+  std::ofstream(file) << text;
+}
+
 TEST(EvsimCli, HelpAndVersionExitZeroAndNameTheCommands) {
   const Outcome help = evsim("--help");
   EXPECT_EQ(help.code, 0);
@@ -184,22 +204,62 @@ TEST(EvsimCli, BenchCopiesOfASmoothPathEndApartByTheirSpeedsDifference) {
   EXPECT_TRUE(says(many, "--copies")) << many.output;
 }
 
+/// The numbers of a --windows line labelled `label`: loops after the first,
+/// late wall, pair and lumen rows, mean rows, halved steps.
+std::vector<double> windowLine(const Outcome& o, const std::string& label) {
+  const size_t at = o.output.find("  " + label + " ");
+  if (at == std::string::npos) return {};
+  std::vector<double> v(6);
+  if (std::sscanf(o.output.c_str() + at + 2 + label.size(), "%lf %lf %lf %lf %lf %lf", &v[0], &v[1],
+                  &v[2], &v[3], &v[4], &v[5]) != 6)
+    return {};
+  return v;
+}
+
+TEST(EvsimCli, BenchWindowsRepeatTheRunAndAVariantEqualToTheSceneCountsTheSameWork) {
+  // aneurysm's coil at t = 3.0-3.4 s, its turns meeting (late pair rows):
+  // four windows of 25 steps. From the run's own states the scene's windows
+  // repeat its steps (the state file is exact), and a variant that is the
+  // same scene under another file counts exactly the same loops, rows and
+  // halvings; one with 20x the penetration tolerance no more loops.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "evsim_cli_windows";
+  fs::create_directories(dir);
+  const std::string same = (dir / "same.yaml").string();
+  const std::string loose = (dir / "loose.yaml").string();
+  writeSceneCopy("aneurysm", "", same);
+  writeSceneCopy("aneurysm", "  penetration_tolerance: 2.0e-5\n", loose, true);
+  const Outcome bench =
+      evsim("bench aneurysm --warmup 3000 --steps 400 --windows 4 " +
+            std::string("--window-steps 25 --variant ") + same + " --variant " + loose);
+  ASSERT_EQ(bench.code, 0) << bench.output;
+  EXPECT_TRUE(says(bench, "the scene's windows repeat the run's loops step for step: yes"))
+      << bench.output;
+  const std::vector<double> scene = windowLine(bench, "aneurysm (the scene)");
+  ASSERT_EQ(scene.size(), 6u) << bench.output;
+  EXPECT_GT(scene[0], 0.0) << bench.output;  // loops after the first: the windows hold work
+  EXPECT_EQ(windowLine(bench, same), scene) << bench.output;
+  const std::vector<double> relaxed = windowLine(bench, loose);
+  ASSERT_EQ(relaxed.size(), 6u) << bench.output;
+  EXPECT_LE(relaxed[0], scene[0]) << bench.output;
+  // A variant whose devices differ, or --variant alone: refused, nothing run.
+  const Outcome other = evsim("bench carotid_selective --steps 50 --windows 2 --variant aneurysm");
+  EXPECT_EQ(other.code, 2) << other.output;
+  EXPECT_TRUE(says(other, "--variant aneurysm: its devices differ")) << other.output;
+  const Outcome alone = evsim("bench carotid_selective --steps 50 --variant " + same);
+  EXPECT_EQ(alone.code, 2) << alone.output;
+  EXPECT_TRUE(says(alone, "--variant needs --windows")) << alone.output;
+  fs::remove_all(dir);
+}
+
 TEST(EvsimCli, AStepTheScenesOptionsCannotSolveIsRecoveredOrFailsWithStrict) {
   // carotid_selective with one PGS sweep: its first contact (t = 0.41 s)
   // is not solved by the scene's options; the recovery step solves it.
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / "evsim_cli_recovery";
   fs::create_directories(dir);
-  const std::string scenes = std::string(EVSIM_TEST_DATA_DIR) + "/../../config/scenes/";
-  std::ifstream in(scenes + "carotid_selective.yaml");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  for (const char* what : {"../vessels/", "../devices/"}) {
-    const std::string to = fs::canonical(fs::path(scenes) / what).string() + "/";
-    for (size_t at; (at = text.find(what)) != std::string::npos;) text.replace(at, 11, to);
-  }
-  text += "contact:\n  solver: pgs\n  max_iterations: 1\n";
   const std::string scene = (dir / "pgs_one_sweep.yaml").string();
-  std::ofstream(scene) << text;
+  writeSceneCopy("carotid_selective", "contact:\n  solver: pgs\n  max_iterations: 1\n", scene);
   const Outcome strict = evsim("run " + scene + " --steps 600 --strict");
   EXPECT_EQ(strict.code, 1) << strict.output;
   EXPECT_TRUE(says(strict, "iteration limit")) << strict.output;
