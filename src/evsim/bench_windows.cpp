@@ -34,6 +34,7 @@ struct WindowTotals {
   LateRows late;           // rows found after the first LCP, by kind
   long rows{0};            // rows of the steps' last LCPs
   int halved{0};           // steps halved at least once
+  double deepest{0.0};     // [m] the deepest penetration a step ended with
   std::vector<int> loops;  // every step's loops (for the comparison with the run)
   std::vector<Vec3> tips;  // every device's tip after each window
 };
@@ -59,6 +60,7 @@ bool runWindow(const SceneModel& model, const std::string& state, long count, bo
     t->late += s.late_rows;
     t->rows += s.contacts;
     t->halved += s.subdivisions > 0;
+    t->deepest = std::max(t->deepest, s.max_penetration_m);
     t->loops.push_back(s.activation_loops);
   }
   for (const DeviceState& d : data.devices) t->tips.push_back(d.position.back());
@@ -73,10 +75,10 @@ double quantileOf(std::vector<double> v, double p) {
 void printTotals(const std::string& label, const WindowTotals& t) {
   double total = 0.0;
   for (double x : t.ms) total += x;
-  std::printf("  %-28s %8ld %6d %6d %6d %7.1f %6d %8.3f %8.3f %8.3f\n", label.c_str(),
+  std::printf("  %-28s %8ld %6d %6d %6d %7.1f %6d %8.2f %8.3f %8.3f %8.3f\n", label.c_str(),
               t.extra_loops, t.late.wall, t.late.pair, t.late.lumen,
-              static_cast<double>(t.rows) / t.ms.size(), t.halved, quantileOf(t.ms, 0.5),
-              total / t.ms.size(), quantileOf(t.ms, 0.99));
+              static_cast<double>(t.rows) / t.ms.size(), t.halved, t.deepest * 1e6,
+              quantileOf(t.ms, 0.5), total / t.ms.size(), quantileOf(t.ms, 0.99));
 }
 
 /// A temporary folder for the windows' states, removed when done.
@@ -161,8 +163,8 @@ int benchWindows(const SceneModel& model, const std::vector<SceneModel>& variant
       "windows: %d states from t = %.3f to %.3f s, %ld steps from each (the run's states; a "
       "paired comparison)\n",
       n, starts.front() * model.time_step, starts.back() * model.time_step, o.steps);
-  std::printf("  %-28s %8s %6s %6s %6s %7s %6s %8s %8s %8s\n", "scene", "loops>1", "wall", "pair",
-              "lumen", "rows", "halved", "median", "mean", "p99 [ms]");
+  std::printf("  %-28s %8s %6s %6s %6s %7s %6s %8s %8s %8s %8s\n", "scene", "loops>1", "wall",
+              "pair", "lumen", "rows", "halved", "deep[um]", "median", "mean", "p99 [ms]");
   std::vector<const SceneModel*> all{&model};
   for (const SceneModel& v : variants) all.push_back(&v);
   for (size_t m = 0; m < all.size(); ++m) {

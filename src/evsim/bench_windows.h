@@ -23,10 +23,11 @@ std::string loadVariants(const SceneModel& model, const std::vector<std::string>
 
 /// Runs `model` over steps [0, warmup + steps) saving its state at
 /// o.count steps spread over [warmup, warmup + steps - o.steps]; from each,
-/// steps the scene and each of `variants` (o.variants, loaded) o.steps steps, and prints per scene
-/// the loops after the first, late rows, mean rows, halved steps and the step times' median, mean
-/// and p99, and whether the scene's windows repeated the run's loops. Returns an evsim exit code
-/// (commands.h).
+/// steps the scene and each of `variants` (o.variants, loaded) o.steps
+/// steps, and prints per scene the loops after the first, late rows, mean
+/// rows, halved steps, the deepest penetration a step ended with and the
+/// step times' median, mean and p99, and whether the scene's windows
+/// repeated the run's loops. Returns an evsim exit code (commands.h).
 int benchWindows(const SceneModel& model, const std::vector<SceneModel>& variants,
                  const BenchWindows& o, long warmup, long steps, bool strict);
 
