@@ -26,6 +26,8 @@ echo "== evsim bench aneurysm_packed --warmup 11000 --steps 3000 --against carot
 echo "== evsim bench aneurysm_packed --warmup 14400 --steps 900 --min-rows 300 --against carotid"
 "$evsim" bench aneurysm_packed --warmup 14400 --steps 900 --min-rows 300 --against carotid \
   | tee "$out/bench_aneurysm_packed_14_15.txt"
+echo "== scripts/whip_knobs.sh (aneurysm's hardest stretch, paired)"
+bash "$repo/scripts/whip_knobs.sh" "$out"
 # The autopilot's procedures from the femoral access (docs/navigation.md):
 # every step, summed up by scripts/step_summary.py.
 for target in left_common_carotid left_subclavian right_common_carotid right_subclavian; do

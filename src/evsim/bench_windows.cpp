@@ -171,7 +171,8 @@ int benchWindows(const SceneModel& model, const std::vector<SceneModel>& variant
     WindowTotals t;
     for (int i = 0; i < n; ++i)
       if (!runWindow(*all[m], folder.file(i), o.steps, strict, &t)) return kExitFailure;
-    printTotals(m == 0 ? model.name + " (the scene)" : o.variants[m - 1], t);
+    printTotals(
+        m == 0 ? model.name + " (the scene)" : fs::path(o.variants[m - 1]).filename().string(), t);
     if (m == 0)
       std::printf("  the scene's windows repeat the run's loops step for step: %s\n",
                   t.loops == run.loops ? "yes" : "no");

@@ -238,8 +238,8 @@ TEST(EvsimCli, BenchWindowsRepeatTheRunAndAVariantEqualToTheSceneCountsTheSameWo
   const std::vector<double> scene = windowLine(bench, "aneurysm (the scene)");
   ASSERT_EQ(scene.size(), 6u) << bench.output;
   EXPECT_GT(scene[0], 0.0) << bench.output;  // loops after the first: the windows hold work
-  EXPECT_EQ(windowLine(bench, same), scene) << bench.output;
-  const std::vector<double> relaxed = windowLine(bench, loose);
+  EXPECT_EQ(windowLine(bench, "same.yaml"), scene) << bench.output;  // (by file name)
+  const std::vector<double> relaxed = windowLine(bench, "loose.yaml");
   ASSERT_EQ(relaxed.size(), 6u) << bench.output;
   EXPECT_LE(relaxed[0], scene[0]) << bench.output;
   // A variant whose devices differ, or --variant alone: refused, nothing run.
