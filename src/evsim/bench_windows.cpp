@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <iostream>
 #include <vector>
@@ -44,7 +45,12 @@ struct WindowTotals {
 bool runWindow(const SceneModel& model, const std::string& state, long count, bool strict,
                WindowTotals* t) {
   SimData data = makeData(model);
-  loadState(model, state, &data);
+  try {
+    loadState(model, state, &data);
+  } catch (const std::exception& e) {  // (written by this run: not expected)
+    std::cerr << "evsim: " << model.name << ": a window's state: " << e.what() << "\n";
+    return false;
+  }
   for (long k = 0; k < count; ++k) {
     bool recovered = false;
     const StepStatus status = strict ? step(model, &data) : stepOrRecover(model, &data, &recovered);
