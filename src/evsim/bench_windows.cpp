@@ -37,7 +37,6 @@ struct WindowTotals {
   int halved{0};           // steps halved at least once
   double deepest{0.0};     // [m] the deepest penetration a step ended with
   std::vector<int> loops;  // every step's loops (for the comparison with the run)
-  std::vector<Vec3> tips;  // every device's tip after each window
 };
 
 /// Steps `model` from the saved state for `count` steps, adding to *t.
@@ -69,7 +68,6 @@ bool runWindow(const SceneModel& model, const std::string& state, long count, bo
     t->deepest = std::max(t->deepest, s.max_penetration_m);
     t->loops.push_back(s.activation_loops);
   }
-  for (const DeviceState& d : data.devices) t->tips.push_back(d.position.back());
   return true;
 }
 
@@ -87,13 +85,16 @@ void printTotals(const std::string& label, const WindowTotals& t) {
               quantileOf(t.ms, 0.5), total / t.ms.size(), quantileOf(t.ms, 0.99));
 }
 
-/// A temporary folder for the windows' states, removed when done.
+/// A temporary folder for the windows' states, removed when done (where it
+/// cannot be made, saving the first state says so).
 class StateFolder {
  public:
-  StateFolder()
-      : path_(fs::temp_directory_path() /
-              ("evsim_windows_" + std::to_string(static_cast<long>(::getpid())))) {
-    fs::create_directories(path_);
+  StateFolder() {
+    std::error_code ec;
+    path_ = fs::temp_directory_path(ec);
+    if (ec) path_ = "/tmp";
+    path_ /= "evsim_windows_" + std::to_string(static_cast<long>(::getpid()));
+    fs::create_directories(path_, ec);
   }
   ~StateFolder() {
     std::error_code ignored;
