@@ -460,7 +460,7 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
   // other, and the first loop's contacts undo most of those passes.
   if (o.device_contact) {
     const auto tp = Clock::now();
-    if (o.element_pairs) keepPairs(pb, s);
+    keepPairs(pb, o.element_pairs, s);
     const bool passed_through = s->contacts->empty();
     for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, -o.new_pair_overlap,
                                           stepStartAxes(pb, o, s), passed_through, true, &s->at_x))

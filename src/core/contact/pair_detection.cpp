@@ -258,7 +258,7 @@ std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
   return out;
 }
 
-void keepPairs(const ContactProblem& pb, LoopState* s) {
+void keepPairs(const ContactProblem& pb, bool element_pairs, LoopState* s) {
   if (!pb.previous) return;
   const auto& devices = *pb.devices;
   const auto& start = *pb.start;
@@ -271,13 +271,25 @@ void keepPairs(const ContactProblem& pb, LoopState* s) {
     if (prev.self.element + 1 < ws[da].first_free_node &&
         prev.other.element + 1 < ws[db].first_free_node)
       continue;  // (both withdrawn into their introducers since: no free node)
-    const std::array<int, 4> key{da, prev.self.element, db, prev.other.element};
+    // Keyed as devicePairs finds it again: by elements, or by sample points.
+    const std::array<int, 4> key =
+        element_pairs ? std::array<int, 4>{da, prev.self.element, db, prev.other.element}
+                      : std::array<int, 4>{da, prev.sample, db, prev.other_sample};
     if (s->pair_contact.count(key)) continue;
+    const double near = prev.separation + std::max(prev.self.radius, prev.other.radius);
+    if ((samplePosition(devices[da], s->x[da], prev.self) -
+         samplePosition(devices[db], s->x[db], prev.other))
+            .squaredNorm() > near * near)
+      continue;  // carried apart in the first iterate
     const Vec3 pa = samplePosition(devices[da], start[da], prev.self);
     const Vec3 pb_ = samplePosition(devices[db], start[db], prev.other);
     Contact ct = prev;  // its points, and its force as the warm start
     ct.point = pb_;
-    if ((pa - pb_).norm() > 1e-6 * prev.separation) ct.normal = (pa - pb_).normalized();
+    if (!element_pairs)  // across both local axes, as devicePairs makes it
+      ct.normal = pairNormal(pa, sampleTangent(start[da], prev.self), pb_,
+                             sampleTangent(start[db], prev.other));
+    else if ((pa - pb_).norm() > 1e-6 * prev.separation)
+      ct.normal = (pa - pb_).normalized();
     ct.gap = 0.0;
     s->pair_contact[key] = static_cast<int>(s->contacts->size());
     s->contacts->push_back(ct);

@@ -40,13 +40,18 @@ std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
 const pairs::StartAxes* stepStartAxes(const ContactProblem& pb, const ContactOptions& o,
                                       LoopState* s);
 
-/// Element pairs: the previous step's pair contacts that carried a force
-/// start the loop, at the same points of the two axes, the normal between
-/// them at x_t and their force as the LCP's warm start (as a wall contact
-/// does: contact_solver.h, "persist"). The free motion of a packed coil
-/// springs its turns open; found afresh at x_f, the contacts that hold
-/// them came back one activation loop at a time.
-void keepPairs(const ContactProblem& pb, LoopState* s);
+/// The previous step's device pairs that carried a force start the loop,
+/// at the same points (of the two axes, or the two sample points), with
+/// the normal devicePairs gives them at x_t (between the axes' points;
+/// across both local axes for sample points) and their force as the LCP's
+/// warm start (as a wall contact does: contact_solver.h, "persist"), where
+/// at the loop's first iterate their points lie within the larger radius of
+/// touching. The free motion of a packed coil springs its turns open; found
+/// afresh there, the contacts that hold them came back one activation loop
+/// at a time. A pair the first iterate carried farther apart (a whipping
+/// coil's turns slide millimetres in a step) would be a row with nothing to
+/// hold.
+void keepPairs(const ContactProblem& pb, bool element_pairs, LoopState* s);
 
 /// A new pair contact in the loop's contacts.
 void addPair(const FoundPair& f, LoopState* s);
