@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <random>
@@ -471,6 +472,86 @@ DeviceModel straightElement(const Vec3& a, const Vec3& b, DeviceState* x) {
   const Quat q = Quat::FromTwoVectors(Vec3::UnitX(), b - a);
   x->rotation = {q, q};
   return m;
+}
+
+/// The direction between the closest points of the stretches pa + s ta
+/// (|s| <= ra) and pb + t tb (|t| <= rb), by brute force: the least distance
+/// over a 401 x 401 grid of (s, t), then a 401 x 401 grid of two cells
+/// around it, and so on five times.
+Vec3 bruteForceStretchNormal(const Vec3& pa, const Vec3& ta, double ra, const Vec3& pb,
+                             const Vec3& tb, double rb, double* distance) {
+  double s0 = -ra, s1 = ra, t0 = -rb, t1 = rb, best_s = 0.0, best_t = 0.0;
+  for (int level = 0; level < 5; ++level) {
+    double best = std::numeric_limits<double>::infinity();
+    for (int i = 0; i <= 400; ++i)
+      for (int j = 0; j <= 400; ++j) {
+        const double s = s0 + (s1 - s0) * i / 400.0, t = t0 + (t1 - t0) * j / 400.0;
+        const double dist = (pa + s * ta - pb - t * tb).squaredNorm();
+        if (dist < best) best = dist, best_s = s, best_t = t;
+      }
+    const double ds = (s1 - s0) / 200.0, dt = (t1 - t0) / 200.0;
+    s0 = std::max(-ra, best_s - ds), s1 = std::min(ra, best_s + ds);
+    t0 = std::max(-rb, best_t - dt), t1 = std::min(rb, best_t + dt);
+  }
+  const Vec3 w = pa + best_s * ta - pb - best_t * tb;
+  *distance = w.norm();
+  return w.normalized();
+}
+
+TEST(DevicePairs, APointPairsNormalJoinsTheClosestPointsOfTheStretchesItsPointsStandFor) {
+  // 200 random point pairs within 0.5 mm, tangents at random angles, each
+  // point standing for 0.1-0.3 mm of its axis either side: the normal is the
+  // direction between the two stretches' closest points (brute force), from
+  // b to a.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), reach(1e-4, 3e-4);
+  double worst = 0.0;
+  int checked = 0;
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 pa = 5e-4 * Vec3(u(rng), u(rng), u(rng)), pb = 5e-4 * Vec3(u(rng), u(rng), u(rng));
+    const Vec3 ta = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const Vec3 tb = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const double ra = reach(rng), rb = reach(rng);
+    double distance = 0.0;
+    const Vec3 expected = bruteForceStretchNormal(pa, ta, ra, pb, tb, rb, &distance);
+    if (distance < 1e-5) continue;  // (the stretches meet: their normal is the fallback's)
+    const Vec3 n = pairs::pairNormal(pa, ta, pb, tb, ra, rb);
+    worst = std::max(worst, (n - expected).norm());
+    ++checked;
+  }
+  std::printf("[ metric   ] %d pairs: normal within %.3e of the brute force's\n", checked, worst);
+  EXPECT_GT(checked, 150);
+  EXPECT_LT(worst, 1e-6);
+}
+
+TEST(DevicePairs, TurnsSideBySideInAPlanePushApartInThatPlane) {
+  // Two concentric turns of a 0.25 mm coil in the x-y plane (radii 2.0 and
+  // 2.25 mm: side by side, touching), sampled every 0.5 mm with the outer
+  // turn's samples shifted by 0-0.25 mm along it: every pair of facing
+  // samples is pushed apart radially, in the turns' plane (the true normal
+  // of two touching tori). Crossed-cylinder normals (t_a x t_b) there point
+  // out of the plane, and their sign flips from pair to pair.
+  const double inner = 2.0e-3, outer = 2.25e-3, spacing = 5e-4, reach = 0.5 * spacing;
+  double worst = 0.0;
+  int checked = 0;
+  for (double shift : {0.0, 0.05e-3, 0.12e-3, 0.2e-3, 0.25e-3})
+    for (int k = 0; k < 24; ++k) {
+      const double phi_a = k * spacing / outer + shift / outer;
+      const double phi_b = std::round(phi_a * inner / spacing) * spacing / inner;  // facing sample
+      const Vec3 pa = outer * Vec3(std::cos(phi_a), std::sin(phi_a), 0.0);
+      const Vec3 ta(-std::sin(phi_a), std::cos(phi_a), 0.0);
+      const Vec3 pb = inner * Vec3(std::cos(phi_b), std::sin(phi_b), 0.0);
+      const Vec3 tb(-std::sin(phi_b), std::cos(phi_b), 0.0);
+      const Vec3 n = pairs::pairNormal(pa, ta, pb, tb, reach, reach);
+      const double phi = 0.5 * (phi_a + phi_b);
+      const Vec3 radial(std::cos(phi), std::sin(phi), 0.0);
+      worst = std::max(worst, std::abs(n.z()));
+      EXPECT_GT(n.dot(radial), 0.99) << "shift " << shift << " sample " << k;
+      ++checked;
+    }
+  std::printf("[ metric   ] %d facing pairs of touching turns: out of plane at most %.3e\n",
+              checked, worst);
+  EXPECT_LT(worst, 1e-12);
 }
 
 TEST(DevicePairs, CrossedWiresTouchWhereTheirAxesAreClosest) {

@@ -11,15 +11,36 @@
 namespace evsim {
 namespace pairs {
 
-/// Normal of a contact between two device points, from b to a: across both
-/// axes (crossed cylinders: t_a x t_b), or, for nearly parallel axes, the
-/// part of p_a - p_b across t_a. Point-to-point normals would make each
-/// contact a pair of spheres, which roll off each other.
-Vec3 pairNormal(const Vec3& pa, const Vec3& ta, const Vec3& pb, const Vec3& tb) {
+/// Normal of a contact between two device points, from b to a: each point
+/// stands for its axis's stretch pa + s ta, |s| <= reach_a (and b's), and
+/// the normal is the direction between those two segments' closest points
+/// (Ericson, Real-Time Collision Detection, 5.1.9). Turns crossing within
+/// the stretches meet along t_a x t_b, turns side by side across both,
+/// whatever offset along them their samples have; never along an axis, as
+/// point-to-point normals are (a pair of spheres, which roll off each
+/// other). Where the segments meet (reaches 0, or axes through each
+/// other), across both axes (crossed cylinders: t_a x t_b), or, for nearly
+/// parallel axes, the part of p_a - p_b across t_a.
+Vec3 pairNormal(const Vec3& pa, const Vec3& ta, const Vec3& pb, const Vec3& tb, double reach_a,
+                double reach_b) {
   const Vec3 d = pa - pb;
-  const Vec3 c = ta.cross(tb);
-  if (c.norm() > 0.1) {
-    const Vec3 n = c.normalized();
+  if (reach_a > 0.0 || reach_b > 0.0) {
+    const double a = ta.squaredNorm(), e = tb.squaredNorm(), b = ta.dot(tb);
+    const double c = ta.dot(d), f = tb.dot(d);
+    const double denom = a * e - b * b;
+    // s on a's stretch, t on b's: |d + s ta - t tb| least.
+    double s = denom > 1e-12 * a * e ? std::clamp((b * f - c * e) / denom, -reach_a, reach_a) : 0.0;
+    double t = (b * s + f) / e;
+    if (t < -reach_b || t > reach_b) {
+      t = std::clamp(t, -reach_b, reach_b);
+      s = std::clamp((b * t - c) / a, -reach_a, reach_a);
+    }
+    const Vec3 w = d + s * ta - t * tb;
+    if (w.norm() > 1e-9 * (reach_a + reach_b)) return w.normalized();
+  }
+  const Vec3 cross = ta.cross(tb);
+  if (cross.norm() > 0.1) {
+    const Vec3 n = cross.normalized();
     return n.dot(d) >= 0.0 ? n : Vec3(-n);
   }
   const Vec3 across = d - d.dot(ta) * ta;

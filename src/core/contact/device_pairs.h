@@ -88,9 +88,11 @@ struct Pair {
   Vec3 normal{Vec3::Zero()};  // swept: from b toward a where they first touched
 };
 
-/// Normal of a contact between two device points, from b to a (axis
-/// tangents ta, tb); see device_pairs.cpp.
-Vec3 pairNormal(const Vec3& pa, const Vec3& ta, const Vec3& pb, const Vec3& tb);
+/// Normal of a contact between two device points, from b to a (unit axis
+/// tangents ta, tb; each point standing for its axis's straight stretch of
+/// reach_a, reach_b [m] either side); see device_pairs.cpp.
+Vec3 pairNormal(const Vec3& pa, const Vec3& ta, const Vec3& pb, const Vec3& tb,
+                double reach_a = 0.0, double reach_b = 0.0);
 
 /// The box of an element's axis: its nodes' box grown by its bow (HermiteAxis::bow) [m].
 Eigen::AlignedBox3d axisBox(const DeviceModel& model, const DeviceState& x, int element);

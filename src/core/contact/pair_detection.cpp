@@ -18,6 +18,17 @@ using pairs::PointRef;
 
 namespace {
 
+/// Half the stretch of its device's axis that sample point k stands for
+/// [m]: half its mean distance to its neighbours along the device.
+double sampleReach(const ContactProblem& pb, int d, int k) {
+  const DeviceModel& model = (*pb.devices)[d];
+  const std::vector<SamplePoint>& samples = (*pb.samples)[d];
+  const int lo = std::max(0, k - 1), hi = std::min(k + 1, static_cast<int>(samples.size()) - 1);
+  if (hi <= lo) return 0.0;
+  return 0.5 * (materialCoordinate(model, samples[hi]) - materialCoordinate(model, samples[lo])) /
+         (hi - lo);
+}
+
 /// Sample points of all devices at x that may pair: every free one, and the
 /// held ones within reach of a free one. A point of an inner device within
 /// its outer device's lumen, or less than a few radii beyond its tip, is marked:
@@ -231,7 +242,8 @@ std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
       f.on_b = samples[b.device][b.sample];
       f.at_b = b.p;
       f.normal = pairNormal(a.p, sampleTangent(x[a.device], f.on_a), b.p,
-                            sampleTangent(x[b.device], f.on_b));
+                            sampleTangent(x[b.device], f.on_b), sampleReach(pb, a.device, a.sample),
+                            sampleReach(pb, b.device, b.sample));
       f.depth = a.r + b.r - pr.distance;
       out.push_back(f);
     }
@@ -285,9 +297,10 @@ void keepPairs(const ContactProblem& pb, bool element_pairs, LoopState* s) {
     const Vec3 pb_ = samplePosition(devices[db], start[db], prev.other);
     Contact ct = prev;  // its points, and its force as the warm start
     ct.point = pb_;
-    if (!element_pairs)  // across both local axes, as devicePairs makes it
+    if (!element_pairs)  // as devicePairs makes it
       ct.normal = pairNormal(pa, sampleTangent(start[da], prev.self), pb_,
-                             sampleTangent(start[db], prev.other));
+                             sampleTangent(start[db], prev.other), sampleReach(pb, da, prev.sample),
+                             sampleReach(pb, db, prev.other_sample));
     else if ((pa - pb_).norm() > 1e-6 * prev.separation)
       ct.normal = (pa - pb_).normalized();
     ct.gap = 0.0;
