@@ -48,9 +48,9 @@ const pairs::StartAxes* stepStartAxes(const ContactProblem& pb, const ContactOpt
 /// at the loop's first iterate their points lie within the larger radius of
 /// touching. The free motion of a packed coil springs its turns open; found
 /// afresh there, the contacts that hold them came back one activation loop
-/// at a time. A pair the first iterate carried farther apart (a whipping
-/// coil's turns slide millimetres in a step) would be a row with nothing to
-/// hold.
+/// at a time. A pair the first iterate carried farther apart (a coil's
+/// turns sliding along each other move up to half a millimetre in a step)
+/// would be a row with nothing to hold.
 void keepPairs(const ContactProblem& pb, bool element_pairs, LoopState* s);
 
 /// A new pair contact in the loop's contacts.
