@@ -29,6 +29,17 @@ double sampleReach(const ContactProblem& pb, int d, int k) {
          (hi - lo);
 }
 
+/// The normal of a pair of sample points (device da's sample ka at pa,
+/// db's kb at pb) in configuration x: between the closest points of the
+/// stretches they stand for (pairs::pairNormal).
+Vec3 samplePairNormal(const ContactProblem& pb, const std::vector<DeviceState>& x, int da, int ka,
+                      const Vec3& pa, int db, int kb, const Vec3& pb_) {
+  const auto& samples = *pb.samples;
+  return pairNormal(pa, sampleTangent(x[da], samples[da][ka]), pb_,
+                    sampleTangent(x[db], samples[db][kb]), sampleReach(pb, da, ka),
+                    sampleReach(pb, db, kb));
+}
+
 /// Sample points of all devices at x that may pair: every free one, and the
 /// held ones within reach of a free one. A point of an inner device within
 /// its outer device's lumen, or less than a few radii beyond its tip, is marked:
@@ -241,9 +252,7 @@ std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
       f.on_a = samples[a.device][a.sample];
       f.on_b = samples[b.device][b.sample];
       f.at_b = b.p;
-      f.normal = pairNormal(a.p, sampleTangent(x[a.device], f.on_a), b.p,
-                            sampleTangent(x[b.device], f.on_b), sampleReach(pb, a.device, a.sample),
-                            sampleReach(pb, b.device, b.sample));
+      f.normal = samplePairNormal(pb, x, a.device, a.sample, a.p, b.device, b.sample, b.p);
       f.depth = a.r + b.r - pr.distance;
       out.push_back(f);
     }
@@ -283,6 +292,7 @@ void keepPairs(const ContactProblem& pb, bool element_pairs, LoopState* s) {
     if (prev.self.element + 1 < ws[da].first_free_node &&
         prev.other.element + 1 < ws[db].first_free_node)
       continue;  // (both withdrawn into their introducers since: no free node)
+    if (!element_pairs && prev.other_sample < 0) continue;  // (no second sample: none to keep)
     // Keyed as devicePairs finds it again: by elements, or by sample points.
     const std::array<int, 4> key =
         element_pairs ? std::array<int, 4>{da, prev.self.element, db, prev.other.element}
@@ -298,9 +308,7 @@ void keepPairs(const ContactProblem& pb, bool element_pairs, LoopState* s) {
     Contact ct = prev;  // its points, and its force as the warm start
     ct.point = pb_;
     if (!element_pairs)  // as devicePairs makes it
-      ct.normal = pairNormal(pa, sampleTangent(start[da], prev.self), pb_,
-                             sampleTangent(start[db], prev.other), sampleReach(pb, da, prev.sample),
-                             sampleReach(pb, db, prev.other_sample));
+      ct.normal = samplePairNormal(pb, start, da, prev.sample, pa, db, prev.other_sample, pb_);
     else if ((pa - pb_).norm() > 1e-6 * prev.separation)
       ct.normal = (pa - pb_).normalized();
     ct.gap = 0.0;

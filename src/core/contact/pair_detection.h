@@ -42,8 +42,8 @@ const pairs::StartAxes* stepStartAxes(const ContactProblem& pb, const ContactOpt
 
 /// The previous step's device pairs that carried a force start the loop,
 /// at the same points (of the two axes, or the two sample points), with
-/// the normal devicePairs gives them at x_t (between the axes' points;
-/// across both local axes for sample points) and their force as the LCP's
+/// the normal devicePairs gives them at x_t (between the axes' points, or
+/// the stretches the sample points stand for) and their force as the LCP's
 /// warm start (as a wall contact does: contact_solver.h, "persist"), where
 /// at the loop's first iterate their points lie within the larger radius of
 /// touching. The free motion of a packed coil springs its turns open; found
