@@ -125,36 +125,46 @@ VesselLocation VesselAtlas::locate(const Vec3& p) const {
     const double r = radius_[g.a] + t * (radius_[g.b] - radius_[g.a]);
     return Hit{(p - a - t * d).norm() / r, g.s0 + t * (g.s1 - g.s0), d.normalized()};
   };
-  // The best (smallest radial) hit per vessel among the segments near p.
-  std::unordered_map<int, Hit> best;
-  for (int k : segmentsNear(p)) {
-    const Hit h = measure(segments_[k]);
-    auto [it, fresh] = best.emplace(segments_[k].vessel, h);
-    if (!fresh && h.radial < it->second.radial) it->second = h;
-  }
-  int chosen = -1;
-  for (const auto& [v, h] : best) {
+  // The best (smallest radial) hit per vessel among the segments near p:
+  // a few vessels meet in a cell, so a short list searched in order (a hash
+  // map here was a dozen allocations a step in locateTips).
+  std::vector<std::pair<int, Hit>> best;
+  best.reserve(8);
+  auto find = [&](int v) {
+    for (size_t i = 0; i < best.size(); ++i)
+      if (best[i].first == v) return static_cast<int>(i);
+    return -1;
+  };
+  auto keep = [&](int v, const Hit& h) {
+    const int i = find(v);
+    if (i < 0)
+      best.emplace_back(v, h);
+    else if (h.radial < best[i].second.radial)
+      best[i].second = h;
+  };
+  for (int k : segmentsNear(p)) keep(segments_[k].vessel, measure(segments_[k]));
+  int chosen = -1;  // index into best
+  for (size_t i = 0; i < best.size(); ++i) {
+    const auto& [v, h] = best[i];
     if (h.radial > 1.0) continue;
     const int parent = vessels_[v].parent;
-    const auto in_parent = parent >= 0 ? best.find(parent) : best.end();
-    if (in_parent != best.end() && in_parent->second.radial <= 1.0) continue;  // its ostium
-    if (chosen < 0 || vessels_[v].generation > vessels_[chosen].generation ||
-        (vessels_[v].generation == vessels_[chosen].generation &&
-         h.radial < best.at(chosen).radial))
-      chosen = v;
+    const int in_parent = parent >= 0 ? find(parent) : -1;
+    if (in_parent >= 0 && best[in_parent].second.radial <= 1.0) continue;  // its ostium
+    const int c = chosen >= 0 ? best[chosen].first : -1;
+    if (chosen < 0 || vessels_[v].generation > vessels_[c].generation ||
+        (vessels_[v].generation == vessels_[c].generation && h.radial < best[chosen].second.radial))
+      chosen = static_cast<int>(i);
   }
   if (chosen < 0) {  // in no lumen: the nearest vessel, by radial distance
     if (best.empty())
-      for (size_t k = 0; k < segments_.size(); ++k) {
-        const Hit h = measure(segments_[k]);
-        auto [it, fresh] = best.emplace(segments_[k].vessel, h);
-        if (!fresh && h.radial < it->second.radial) it->second = h;
-      }
-    for (const auto& [v, h] : best)
-      if (chosen < 0 || h.radial < best.at(chosen).radial) chosen = v;
+      for (size_t k = 0; k < segments_.size(); ++k)
+        keep(segments_[k].vessel, measure(segments_[k]));
+    for (size_t i = 0; i < best.size(); ++i)
+      if (chosen < 0 || best[i].second.radial < best[chosen].second.radial)
+        chosen = static_cast<int>(i);
   }
-  const Hit& h = best.at(chosen);
-  out.vessel = chosen;
+  const Hit& h = best[chosen].second;
+  out.vessel = best[chosen].first;
   out.depth = h.depth;
   out.radial = h.radial;
   out.inside = h.radial <= 1.0;
