@@ -53,6 +53,16 @@ class ChainFactor {
   void solveTrailingInPlace(MatX* X, int first) const;
 
  private:
+  /// D_i^-1 applied in place to a 6-row block of columns, column by column
+  /// (no temporary on the heap).
+  template <typename Block>
+  void applyPivotInverse(int i, Block&& block) const {
+    for (Eigen::Index c = 0; c < block.cols(); ++c) {
+      const Vec6 y = d_inv_[i] * block.col(c);
+      block.col(c) = y;
+    }
+  }
+
   std::vector<Mat6> transfer_;  // -L_{i+1}^T
   std::vector<Mat6> d_inv_;     // D_i^-1
 };

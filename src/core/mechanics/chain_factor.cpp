@@ -102,20 +102,23 @@ void ChainFactor::solveInPlace(MatX* X, int first_nonzero) const {
   const int n = numBlocks();
   // Below the first nonzero block the forward pass and D^-1 carry zeros:
   // skipped, the same numbers.
+  // Products of a 6 x 6 block with a 6-row block of X are lazy (column by
+  // column, no temporary on the heap), D^-1 applied column by column.
   for (int i = std::max(first_nonzero, 0); i + 1 < n; ++i)
-    X->middleRows<6>(6 * i + 6).noalias() += transfer_[i].transpose() * X->middleRows<6>(6 * i);
+    X->middleRows<6>(6 * i + 6) += transfer_[i].transpose().lazyProduct(X->middleRows<6>(6 * i));
   for (int i = std::max(first_nonzero, 0); i < n; ++i)
-    X->middleRows<6>(6 * i) = d_inv_[i] * X->middleRows<6>(6 * i);
+    applyPivotInverse(i, X->middleRows<6>(6 * i));
   for (int i = n - 2; i >= 0; --i)
-    X->middleRows<6>(6 * i).noalias() += transfer_[i] * X->middleRows<6>(6 * i + 6);
+    X->middleRows<6>(6 * i) += transfer_[i].lazyProduct(X->middleRows<6>(6 * i + 6));
 }
 
 void ChainFactor::solveTrailingInPlace(MatX* X, int first) const {
   const int n = numBlocks();
   auto block = [&](int i) { return X->middleRows<6>(6 * (i - first)); };
-  for (int i = first; i + 1 < n; ++i) block(i + 1).noalias() += transfer_[i].transpose() * block(i);
-  for (int i = first; i < n; ++i) block(i) = d_inv_[i] * block(i);
-  for (int i = n - 2; i >= first; --i) block(i).noalias() += transfer_[i] * block(i + 1);
+  for (int i = first; i + 1 < n; ++i)
+    block(i + 1) += transfer_[i].transpose().lazyProduct(block(i));
+  for (int i = first; i < n; ++i) applyPivotInverse(i, block(i));
+  for (int i = n - 2; i >= first; --i) block(i) += transfer_[i].lazyProduct(block(i + 1));
 }
 
 }  // namespace evsim
