@@ -81,14 +81,22 @@ class SamplePositions {
  public:
   /// Forgets the positions: from now on those at *x (kept by address).
   void reset(const ContactProblem& pb, const std::vector<DeviceState>* x);
-  /// Sample k of device d at *x [m].
-  const Vec3& at(int d, int k);
+  /// Sample k of device d at *x [m]. Inline: every pass asks for every
+  /// point, and most are known already.
+  const Vec3& at(int d, int k) {
+    const int i = first_[d] + k;
+    if (!known_[i]) place(d, k, i);
+    return p_[i];
+  }
 
  private:
+  void place(int d, int k, int i);  // computes sample k of device d into entry i
+
   const ContactProblem* pb_{nullptr};
   const std::vector<DeviceState>* x_{nullptr};
-  std::vector<std::vector<Vec3>> p_;
-  std::vector<std::vector<char>> known_;
+  std::vector<int> first_;  // per device, the entry of its first sample
+  std::vector<Vec3> p_;     // every device's samples, one after the other
+  std::vector<char> known_;
 };
 
 /// What the activation loop of one step carries from loop to loop.

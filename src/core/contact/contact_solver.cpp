@@ -73,20 +73,19 @@ void SamplePositions::reset(const ContactProblem& pb, const std::vector<DeviceSt
   pb_ = &pb;
   x_ = x;
   const size_t nd = pb.samples->size();
-  p_.resize(nd);
-  known_.resize(nd);
+  first_.resize(nd);
+  int count = 0;
   for (size_t d = 0; d < nd; ++d) {
-    p_[d].resize((*pb.samples)[d].size());
-    known_[d].assign((*pb.samples)[d].size(), 0);
+    first_[d] = count;
+    count += static_cast<int>((*pb.samples)[d].size());
   }
+  p_.resize(count);
+  known_.assign(count, 0);
 }
 
-const Vec3& SamplePositions::at(int d, int k) {
-  if (!known_[d][k]) {
-    p_[d][k] = samplePosition((*pb_->devices)[d], (*x_)[d], (*pb_->samples)[d][k]);
-    known_[d][k] = 1;
-  }
-  return p_[d][k];
+void SamplePositions::place(int d, int k, int i) {
+  p_[i] = samplePosition((*pb_->devices)[d], (*x_)[d], (*pb_->samples)[d][k]);
+  known_[i] = 1;
 }
 
 namespace {

@@ -98,13 +98,48 @@ constexpr int kFreshColumnsPerRow = 25;
 
 using Part = ChainPart;
 
+using Mat6X = Eigen::Matrix<double, 6, Eigen::Dynamic>;
+using MatX6 = Eigen::Matrix<double, Eigen::Dynamic, 6>;
+
+/// The buffers of one update of W, kept per thread from call to call: they
+/// only grow, so that a step allocates nothing here once it has met its
+/// largest problem (the loop updates W a few times a step).
+struct UpdateScratch {
+  std::vector<Part> unsorted, parts;
+  std::vector<int> parts_before;  // sortParts' counts per node
+  std::vector<char> is_fresh_row;
+  std::vector<int> fresh_list, fresh_parts, fresh_columns;
+  std::vector<int> row_of, partner, first_part_of_row;
+  Mat6X here, above, r;  // carried columns (at least as many as asked for)
+  MatX6 settled;
+  VecX dots;
+};
+
+UpdateScratch& updateScratch() {
+  thread_local UpdateScratch scratch;
+  return scratch;
+}
+
+/// At least `cols` columns (`rows` rows) in a buffer that only grows.
+void reserveCols(Mat6X* m, int cols) {
+  if (m->cols() < cols) m->resize(6, cols);
+}
+void reserveRows(MatX6* m, int rows) {
+  if (m->rows() < rows) m->resize(rows, 6);
+}
+void reserveSize(VecX* v, int size) {
+  if (v->size() < size) v->resize(size);
+}
+
 /// The rows' parts sorted by node, in row order within a node (a counting
-/// sort: O(parts + blocks)); a part whose first node is held keeps its
-/// second (as `lo` on free node 0), a part with both held is dropped.
-std::vector<Part> sortedParts(const std::vector<ContactRow>& rows, int blocks) {
-  std::vector<Part> unsorted;
-  unsorted.reserve(2 * rows.size());
-  std::vector<int> start(blocks + 1, 0);  // parts before each node
+/// sort: O(parts + blocks)), into *parts (*unsorted and *before: its
+/// buffers); a part whose first node is held keeps its second (as `lo` on
+/// free node 0), a part with both held is dropped.
+void sortParts(const std::vector<ContactRow>& rows, int blocks, std::vector<Part>* unsorted,
+               std::vector<int>* before, std::vector<Part>* parts) {
+  unsorted->clear();
+  std::vector<int>& start = *before;  // parts before each node
+  start.assign(blocks + 1, 0);
   for (size_t r = 0; r < rows.size(); ++r)
     for (int k = 0; k < rows[r].parts; ++k) {
       const int node = rows[r].offset[k] / 6;
@@ -113,12 +148,18 @@ std::vector<Part> sortedParts(const std::vector<ContactRow>& rows, int blocks) {
       Part p{static_cast<int>(r), node, h.head<6>().transpose(), h.tail<6>().transpose()};
       if (node == -1) p = {p.row, 0, p.hi, Vec6::Zero()};
       if (p.node + 1 >= blocks) p.hi.setZero();
-      unsorted.push_back(p);
+      unsorted->push_back(p);
       ++start[p.node + 1];
     }
   for (int i = 0; i < blocks; ++i) start[i + 1] += start[i];
-  std::vector<Part> parts(unsorted.size());
-  for (const Part& p : unsorted) parts[start[p.node]++] = p;
+  parts->resize(unsorted->size());
+  for (const Part& p : *unsorted) (*parts)[start[p.node]++] = p;
+}
+
+std::vector<Part> sortedParts(const std::vector<ContactRow>& rows, int blocks) {
+  std::vector<Part> unsorted, parts;
+  std::vector<int> before;
+  sortParts(rows, blocks, &unsorted, &before, &parts);
   return parts;
 }
 
@@ -166,12 +207,16 @@ Vec6 columnAbove(const ChainInverse& inverse, const Part& p) {
 /// Every pair (a, b fresh) once; the caller mirrors the fresh columns.
 void addFreshColumns(const ChainInverse& inverse, const std::vector<Part>& parts,
                      const std::vector<int>& fresh_parts, Eigen::Ref<MatX> W) {
-  using Mat6X = Eigen::Matrix<double, 6, Eigen::Dynamic>;
   const int f = static_cast<int>(fresh_parts.size());
   const int count = static_cast<int>(parts.size());
   if (f == 0) return;
-  Mat6X here(6, f), above(6, f);
-  VecX dots(f);
+  UpdateScratch& scratch = updateScratch();
+  Mat6X& here = scratch.here;
+  Mat6X& above = scratch.above;
+  VecX& dots = scratch.dots;
+  reserveCols(&here, f);
+  reserveCols(&above, f);
+  reserveSize(&dots, f);
   // Down: fresh columns started at their nodes, highest first.
   int started = 0;  // fresh_parts[f - started, f) are started
   int node = parts[fresh_parts[f - 1]].node;
@@ -195,7 +240,8 @@ void addFreshColumns(const ChainInverse& inverse, const std::vector<Part>& parts
     for (int k = 0; k < started; ++k) W.col(parts[fresh_parts[first + k]].row)(pa.row) += dots(k);
   }
   // Up: rows of the fresh parts strictly below each part a.
-  Mat6X r(6, f);
+  Mat6X& r = scratch.r;
+  reserveCols(&r, f);
   started = 0;  // fresh_parts[0, started) are started, r at node `node`
   node = parts[fresh_parts[0]].node;
   for (int a = 0; a < count; ++a) {
@@ -237,12 +283,18 @@ void sweepColumns(const ChainInverse& inverse, const std::vector<Part>& parts,
   // pair once). A pair of kept rows is not dotted: its entry is copied.
   constexpr int kYoungColumns = 16;
   constexpr int kSpanNodes = 32;
-  using Mat6X = Eigen::Matrix<double, 6, Eigen::Dynamic>;
-  using MatX6 = Eigen::Matrix<double, Eigen::Dynamic, 6>;
-  Mat6X here(6, count), above(6, count);
-  MatX6 settled(count, 6);  // settled columns, transposed: dots are 6 contiguous axpys
-  VecX dots(count);
-  std::vector<int> fresh_columns;  // started columns of fresh rows, ascending
+  UpdateScratch& scratch = updateScratch();
+  Mat6X& here = scratch.here;
+  Mat6X& above = scratch.above;
+  MatX6& settled = scratch.settled;  // settled columns, transposed: dots are 6 contiguous axpys
+  VecX& dots = scratch.dots;
+  reserveCols(&here, count);
+  reserveCols(&above, count);
+  reserveRows(&settled, count);
+  reserveSize(&dots, count);
+  std::vector<int>& fresh_columns =
+      scratch.fresh_columns;  // started columns of fresh rows, ascending
+  fresh_columns.clear();
   Mat6 T = Mat6::Identity(), T_above = Mat6::Identity();
   int settled_count = 0;  // columns [0, settled_count) are settled at node `checkpoint`
   int active = 0;         // columns started; [settled_count, active) are young
@@ -255,7 +307,12 @@ void sweepColumns(const ChainInverse& inverse, const std::vector<Part>& parts,
   // The same for runs of parts b, from their rows (contiguous) and each
   // part's partner (the other part of its row, or -1): the partner's dot
   // doubled beforehand, the run adds without a test.
-  std::vector<int> row_of(count), partner(count, -1), first_part_of_row(W.rows(), -1);
+  std::vector<int>& row_of = scratch.row_of;
+  std::vector<int>& partner = scratch.partner;
+  std::vector<int>& first_part_of_row = scratch.first_part_of_row;
+  row_of.resize(count);
+  partner.assign(count, -1);
+  first_part_of_row.assign(W.rows(), -1);
   for (int k = 0; k < count; ++k) {
     row_of[k] = parts[k].row;
     int& first = first_part_of_row[parts[k].row];
@@ -324,9 +381,9 @@ void sweepColumns(const ChainInverse& inverse, const std::vector<Part>& parts,
     next = active;
     if (young >= kYoungColumns || (settled_count > 0 && checkpoint - i >= kSpanNodes)) {
       // Settle every column at node i.
-      if (settled_count > 0) {
-        const MatX6 moved = settled.topRows(settled_count) * T.transpose();
-        settled.topRows(settled_count) = moved;
+      for (int k = 0; k < settled_count; ++k) {  // each settled column moved by T
+        const Eigen::Matrix<double, 1, 6> moved = settled.row(k) * T.transpose();
+        settled.row(k) = moved;
       }
       settled.middleRows(settled_count, young) = here.middleCols(settled_count, young).transpose();
       settled_count = active;
@@ -391,8 +448,11 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
   const int c = static_cast<int>(rows.size());
   if (buffer->size > c) buffer->size = 0;  // nothing to keep
   const int kept_rows = buffer->size;
-  std::vector<char> is_fresh_row(c, 0);
-  std::vector<int> fresh_list;
+  UpdateScratch& scratch = updateScratch();
+  std::vector<char>& is_fresh_row = scratch.is_fresh_row;
+  std::vector<int>& fresh_list = scratch.fresh_list;
+  is_fresh_row.assign(c, 0);
+  fresh_list.clear();
   for (int i = 0; i < c; ++i)
     if (i >= kept_rows || (i < static_cast<int>(fresh_rows.size()) && fresh_rows[i])) {
       is_fresh_row[i] = 1;
@@ -400,14 +460,16 @@ void updateChainDelassusOperator(const ChainInverse& inverse, const std::vector<
     }
   Eigen::Block<MatX> W = keepUnchangedEntries(c, kept_rows, fresh_list, buffer);
   const int blocks = inverse.numBlocks();
-  std::vector<Part> parts = sortedParts(rows, blocks);
+  std::vector<Part>& parts = scratch.parts;
+  sortParts(rows, blocks, &scratch.unsorted, &scratch.parts_before, &parts);
   const bool few =
       kFreshColumnsPerRow * static_cast<int>(fresh_list.size()) <= c + kFreshColumnsBase;
   if (kept_rows > 0 && path != DelassusUpdate::kSweep &&
       (path == DelassusUpdate::kFreshColumns || few)) {
     // Few fresh rows: their columns alone, then mirrored into their rows
     // (a pair of fresh rows from the higher one's column).
-    std::vector<int> fresh_parts;
+    std::vector<int>& fresh_parts = scratch.fresh_parts;
+    fresh_parts.clear();
     for (size_t k = 0; k < parts.size(); ++k)
       if (is_fresh_row[parts[k].row]) fresh_parts.push_back(static_cast<int>(k));
     addFreshColumns(inverse, parts, fresh_parts, W);
