@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <random>
 
 #include "endovascular_sim/contact/contact_solver.h"
 #include "endovascular_sim/geometry/vessel_field.h"
@@ -154,6 +155,35 @@ SceneModel tubeScene() {
 /// of the near wall where the wire starts would hold nothing (it used to be
 /// added again in every loop until the step failed; 'tortuous' did so at a
 /// J-tip squeezed against a wall).
+TEST(Contact, AnElementsPointsAtOnceAreEachPointsPosition) {
+  // samplePositions (an element's points with its tangents formed once, as
+  // detection places them) gives samplePosition's numbers to the bit on a
+  // bent, twisted device, nodes and interior points alike.
+  const DeviceModel model =
+      buildDeviceModel(straightDeviceSpec("wire", test::wireSection(60e9, 2e-4), 0.05, 12));
+  DeviceState x = restState(model);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < model.num_nodes; ++i) {
+    x.position[i] += 1e-3 * Vec3(u(rng), u(rng), u(rng));
+    x.rotation[i] = expQuaternion(0.5 * Vec3(u(rng), u(rng), u(rng))) * x.rotation[i];
+  }
+  const std::vector<SamplePoint> samples = sampleDevice(model, 1e-3);
+  int interior = 0;
+  for (size_t lo = 0; lo < samples.size();) {
+    size_t hi = lo + 1;
+    while (hi < samples.size() && samples[hi].element == samples[lo].element) ++hi;
+    std::vector<Vec3> at(hi - lo);
+    samplePositions(model, x, &samples[lo], static_cast<int>(hi - lo), at.data());
+    for (size_t k = lo; k < hi; ++k) {
+      EXPECT_EQ(at[k - lo], samplePosition(model, x, samples[k])) << "sample " << k;
+      interior += samples[k].xi > 0.0 && samples[k].xi < 1.0;
+    }
+    lo = hi;
+  }
+  EXPECT_GT(interior, 30);
+}
+
 TEST(Contact, APointThrownAcrossTheLumenGetsTheFarWall) {
   SceneModel m = tubeScene();
   const auto vessels = m.vessels;

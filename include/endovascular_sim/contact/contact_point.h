@@ -30,6 +30,11 @@ std::vector<SamplePoint> sampleDevice(const DeviceModel& model, double spacing);
 
 /// Position of a sample point in a configuration [m].
 Vec3 samplePosition(const DeviceModel& model, const DeviceState& state, const SamplePoint& s);
+/// samplePosition of `count` consecutive sample points s[0..count) of one
+/// element into out[0..count), the element's two tangents formed once (the
+/// same numbers).
+void samplePositions(const DeviceModel& model, const DeviceState& state, const SamplePoint* s,
+                     int count, Vec3* out);
 
 /// A point of the device axis (cubic Hermite) and its derivatives in xi.
 struct AxisPoint {

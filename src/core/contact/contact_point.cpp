@@ -64,6 +64,33 @@ Vec3 samplePosition(const DeviceModel& model, const DeviceState& state, const Sa
          h.h11 * L * tangent(state, b);
 }
 
+void samplePositions(const DeviceModel& model, const DeviceState& state, const SamplePoint* s,
+                     int count, Vec3* out) {
+  if (count == 0) return;
+  const int a = s[0].element, b = a + 1;
+  const double L = model.elements[a].length;
+  Vec3 ta = Vec3::Zero(), tb = Vec3::Zero();
+  bool tangents = false;  // formed on the first interior point
+  for (int j = 0; j < count; ++j) {
+    if (s[j].xi == 0.0) {
+      out[j] = state.position[a];
+      continue;
+    }
+    if (s[j].xi == 1.0) {
+      out[j] = state.position[b];
+      continue;
+    }
+    if (!tangents) {
+      ta = tangent(state, a);
+      tb = tangent(state, b);
+      tangents = true;
+    }
+    const Hermite h(s[j].xi);
+    out[j] =
+        h.h00 * state.position[a] + h.h10 * L * ta + h.h01 * state.position[b] + h.h11 * L * tb;
+  }
+}
+
 AxisPoint axisPoint(const DeviceModel& model, const DeviceState& state, int element, double xi) {
   return HermiteAxis::of(model, state, element).at(xi);
 }

@@ -6,6 +6,7 @@
 // holds the state the phases share.
 #include "endovascular_sim/contact/contact_solver.h"
 
+#include <algorithm>
 #include <sstream>
 
 #include "activation_loop.h"
@@ -84,8 +85,15 @@ void SamplePositions::reset(const ContactProblem& pb, const std::vector<DeviceSt
 }
 
 void SamplePositions::place(int d, int k, int i) {
-  p_[i] = samplePosition((*pb_->devices)[d], (*x_)[d], (*pb_->samples)[d][k]);
-  known_[i] = 1;
+  // The whole element at once: passes ask for every point in turn, and its
+  // tangents are formed once for all of its points.
+  const std::vector<SamplePoint>& samples = (*pb_->samples)[d];
+  const int element = samples[k].element, count = static_cast<int>(samples.size());
+  int lo = k, hi = k + 1;
+  while (lo > 0 && samples[lo - 1].element == element) --lo;
+  while (hi < count && samples[hi].element == element) ++hi;
+  samplePositions((*pb_->devices)[d], (*x_)[d], &samples[lo], hi - lo, &p_[i - (k - lo)]);
+  std::fill(known_.begin() + (i - (k - lo)), known_.begin() + (i + (hi - k)), 1);
 }
 
 namespace {

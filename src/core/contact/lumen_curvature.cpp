@@ -123,7 +123,13 @@ void eliminateLumenSprings(LoopSystem* sys) {
   // factorisation fail to round-off all the same, the loop is the paper's
   // step without the springs (their forces 0).
   if (sys->S.info() != Eigen::Success) return;
-  sys->W_sum.noalias() -= sys->W_HR * sys->S.solve(sys->W_HR.transpose());
+  // W_HR S^-1 W_RH = Z^T Z with Z = L^-1 W_RH (S = L L^T): a symmetric
+  // rank-r update of one triangle, half the flops of the general product,
+  // mirrored into the other (exactly symmetric).
+  MatX Z = sys->W_HR.transpose();
+  sys->S.matrixL().solveInPlace(Z);
+  sys->W_sum.selfadjointView<Eigen::Lower>().rankUpdate(Z.transpose(), -1.0);
+  sys->W_sum.triangularView<Eigen::StrictlyUpper>() = sys->W_sum.transpose();
   sys->q.noalias() += sys->W_HR * sys->S.solve(sys->e);
 }
 
