@@ -158,7 +158,8 @@ SceneModel tubeScene() {
 TEST(Contact, AnElementsPointsAtOnceAreEachPointsPosition) {
   // samplePositions (an element's points with its tangents formed once, as
   // detection places them) gives samplePosition's numbers to the bit on a
-  // bent, twisted device, nodes and interior points alike.
+  // bent, twisted device, nodes and interior points alike, and both lie on
+  // the element's Hermite axis (axisPoint, formed on its own).
   const DeviceModel model =
       buildDeviceModel(straightDeviceSpec("wire", test::wireSection(60e9, 2e-4), 0.05, 12));
   DeviceState x = restState(model);
@@ -177,6 +178,8 @@ TEST(Contact, AnElementsPointsAtOnceAreEachPointsPosition) {
     samplePositions(model, x, &samples[lo], static_cast<int>(hi - lo), at.data());
     for (size_t k = lo; k < hi; ++k) {
       EXPECT_EQ(at[k - lo], samplePosition(model, x, samples[k])) << "sample " << k;
+      const Vec3 on_axis = axisPoint(model, x, samples[k].element, samples[k].xi).position;
+      EXPECT_LT((at[k - lo] - on_axis).norm(), 1e-15) << "sample " << k;
       interior += samples[k].xi > 0.0 && samples[k].xi < 1.0;
     }
     lo = hi;

@@ -55,13 +55,9 @@ std::vector<SamplePoint> sampleDevice(const DeviceModel& model, double spacing) 
 }
 
 Vec3 samplePosition(const DeviceModel& model, const DeviceState& state, const SamplePoint& s) {
-  const int a = s.element, b = s.element + 1;
-  if (s.xi == 0.0) return state.position[a];
-  if (s.xi == 1.0) return state.position[b];
-  const Hermite h(s.xi);
-  const double L = model.elements[s.element].length;
-  return h.h00 * state.position[a] + h.h10 * L * tangent(state, a) + h.h01 * state.position[b] +
-         h.h11 * L * tangent(state, b);
+  Vec3 p;
+  samplePositions(model, state, &s, 1, &p);
+  return p;
 }
 
 void samplePositions(const DeviceModel& model, const DeviceState& state, const SamplePoint* s,
