@@ -83,12 +83,15 @@ struct ContactOptions {
   double new_pair_overlap{0.0};        // effect 'device_contact': a pair not held in the last
                                        // step is a contact of the first detection once it overlaps
                                        // by more (0: once it touches; later: pair_tolerance) [m]
-  double lumen_tolerance{5e-6};        // effect 'coaxial': a point of an inner device beyond its
-                                       // outer device's lumen by more is violated [m]
-  double lumen_settle{0.1};  // effect 'coaxial': the loop goes on while a point held by the
-                             // lumen's curvature slid more than this fraction of the clearance
-                             // since the loop's anchor: what that leaves is a force below this
-                             // fraction of the contact's (docs/model.md, "Coaxial devices") [-]
+  double row_turn{2e-2};  // a contact's normal row of H is formed again at the loop's x once a
+                          // node tangent of its element turned by more since it was formed (0:
+                          // every loop; its W entries are kept while it is not) [rad]
+  double lumen_tolerance{5e-6};  // effect 'coaxial': a point of an inner device beyond its
+                                 // outer device's lumen by more is violated [m]
+  double lumen_settle{0.1};      // effect 'coaxial': the loop goes on while a point held by the
+                                 // lumen's curvature slid more than this fraction of the clearance
+                                 // since the loop's anchor: what that leaves is a force below this
+                                 // fraction of the contact's (docs/model.md, "Coaxial devices") [-]
   FrictionOptions friction_solver;  // its tolerance and sweep limit
 };
 
@@ -162,8 +165,9 @@ struct ContactStats {
   double lumen_ms{0.0};      // coaxial lumen detection (part of detection_ms)
   int lumen_passes{0};       // coaxial lumen detection passes (effect 'coaxial')
   int on_demand_loops{0};    // loops whose W was formed column by column (columns_on_demand)
-  int first_rows{0};         // rows of the first loop's LCP
-  LateRows late_rows;        // rows the loop added after its first LCP, by kind
+  int kept_rows{0};  // rows whose entries of W a loop kept from the last (contact.row_turn), summed
+  int first_rows{0};   // rows of the first loop's LCP
+  LateRows late_rows;  // rows the loop added after its first LCP, by kind
 };
 
 /// The LCP of the last activation loop (for dumps and offline comparisons).

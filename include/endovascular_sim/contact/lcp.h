@@ -7,7 +7,10 @@
 //  - kStatusMethod (the paper's): solve W_aa z_a = -q_a on the active set,
 //    drop the contact with the most negative force, re-solve, until z >= 0;
 //    then activate the most violated inactive contact (w < -tolerance) and
-//    repeat. By default the active set starts empty: a step's rows hold
+//    repeat (partial pricing: the rows violated at the last evaluation of
+//    every gap are watched, and the most violated of them is activated
+//    while one is; every gap is evaluated again only when none is, and
+//    always before the answer). By default the active set starts empty: a step's rows hold
 //    many redundant candidates (neighbouring sample points seeing one wall),
 //    of which few carry a force, so growing the set from the most violated
 //    row needs 5-25x fewer pivots on scene LCPs than the paper's start
@@ -70,6 +73,8 @@ struct LcpStats {
   int iterations{0};          // pivots (status, Lemke) or sweeps (PGS)
   int deactivations{0};       // status method: contacts dropped for a negative force
   int activations{0};         // status method: contacts added for a negative gap
+  int gap_sweeps{0};          // status method: evaluations of every gap (partial pricing: fewer
+                              // than activations)
   bool switched_rule{false};  // status method: Murty's rule was needed
   double residual{0.0};       // natural-map residual |z - max(0, z - w)| / |q|
 };

@@ -104,6 +104,8 @@ struct StepStats {
   int on_demand_loops{0};  // activation loops whose W was formed column by column as the
                            // status method read them (contact.columns_on_demand)
   int first_rows{0};       // rows of the first activation loop's LCP (of the last sub-step)
+  int kept_rows{0};        // rows whose entries of W a loop kept from the last, summed over the
+                           // loops (contact.row_turn)
   LateRows late_rows;      // rows the activation loops added after their first LCP, summed over
                            // sub-steps: the contacts each loop found late, by kind
   bool asleep{false};      // the scene slept through this step (SleepOptions): nothing was solved

@@ -99,6 +99,26 @@ class SamplePositions {
   std::vector<char> known_;
 };
 
+/// A contact's normal row of H as a loop formed it (one part per device
+/// point: one for a wall, two for a pair), with what it was formed from:
+/// its points, its normal, and the node tangents of each point's element.
+/// formRows reuses it, bit for bit, while its points and normal are the
+/// same and no node tangent turned by more than options.row_turn, on a
+/// device whose last loop took W from the band: W's entries among
+/// unchanged rows are then kept from the last loop (deviceOperator). A kept row's rotational terms
+/// (h10 L t x n, |h10| <= 4/27) differ from the row at x by at most row_turn of theirs, so the gap
+/// the loop's linear problem predicts differs from the linearisation at x by at most 4/27 row_turn
+/// L times the correction's turn: 1.5e-8 m for 2e-2 and 1e-2 rad over a 0.5 mm element, 1.5 % of
+/// the wall's penetration tolerance. The loop's detection at x checks the true gaps either way.
+struct FormedRow {
+  int parts{0};  // 0: none formed
+  Vec3 normal{Vec3::Zero()};
+  std::array<int, 2> element{};
+  std::array<double, 2> xi{};
+  std::array<Row12, 2> h{};
+  std::array<std::array<Vec3, 2>, 2> tangent{};  // per part: its element's node tangents
+};
+
 /// What the activation loop of one step carries from loop to loop.
 struct LoopState {
   /// dq = dq_free; x not yet placed (placeAtFreeMotion or predictFirstIterate).
@@ -116,6 +136,7 @@ struct LoopState {
   std::map<std::array<int, 4>, int> pair_contact;  // (device, element, device, element) -> contact
   std::vector<std::vector<int>> lumen_of;  // per inner device, sample -> lumen contact or -1
   std::vector<char> updated;               // per contact: plane already updated in this step
+  std::vector<FormedRow> formed;           // per contact: its normal row as last formed
   // The wall's curvature and W's storage:
   std::vector<Band> band;                          // what ws[d].inverse holds
   std::vector<CurvatureTerm> curvature;            // C per device, kept once no longer updated
@@ -134,6 +155,7 @@ struct LoopState {
 struct LoopSystem {
   int c{0};                                   // contacts
   int m{0};                                   // rows: per contact n (and t1, t2 with friction)
+  int kept_rows{0};                           // rows whose entries of W were kept (FormedRow)
   std::vector<const ChainFactor*> factor;     // per device: of A, or of A + C
   std::vector<VecX> dq_step;                  // the loop's free motion (with C)
   std::vector<std::array<Vec3, 2>> tangents;  // per contact with friction: t1, t2

@@ -37,6 +37,8 @@ std::string validateContactOptions(const ContactOptions& o) {
     why << "pair_tolerance must lie in [0, 1e-4] m";
   else if (!(o.new_pair_overlap >= 0.0 && o.new_pair_overlap <= 1e-4))
     why << "new_pair_overlap must lie in [0, 1e-4] m";
+  else if (!(o.row_turn >= 0.0 && o.row_turn <= 0.1))
+    why << "row_turn must lie in [0, 0.1] rad";
   else if (!(o.lumen_tolerance >= 1e-9 && o.lumen_tolerance <= 1e-3))
     why << "lumen_tolerance must lie in [1e-9, 1e-3] m";
   else if (!(o.lumen_settle >= 1e-4 && o.lumen_settle <= 1.0))
@@ -264,6 +266,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     formContactProblem(pb, o, &s, &sys);  // H, q at x; W = H A^-1 H^T
     st->delassus_ms += msSince(t0);
     st->on_demand_loops += sys.columns ? 1 : 0;
+    st->kept_rows += sys.kept_rows;
 
     t0 = Clock::now();
     VecX lambda;

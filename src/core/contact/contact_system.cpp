@@ -184,9 +184,32 @@ void prepareFreeMotion(const ContactProblem& pb, const ContactOptions& o, int lo
 
 namespace {
 
+/// Part `part` of contact i's normal row at x (sign: +1 for its own point,
+/// -1 for a pair's other point): the row formed by an earlier loop where
+/// its point and normal are the same and its element's node tangents
+/// turned by at most `turn` [rad] since, else formed at x and kept.
+Row12 normalRow(const ContactProblem& pb, const std::vector<DeviceState>& x, int device,
+                const SamplePoint& sp, const Vec3& n, double sign, int part, double turn,
+                FormedRow* formed) {
+  const DeviceState& xd = x[device];
+  const Vec3 t0 = xd.rotation[sp.element] * Vec3::UnitX();
+  const Vec3 t1 = xd.rotation[sp.element + 1] * Vec3::UnitX();
+  if (formed->parts > part && formed->normal == n && formed->element[part] == sp.element &&
+      formed->xi[part] == sp.xi && (t0 - formed->tangent[part][0]).squaredNorm() <= turn * turn &&
+      (t1 - formed->tangent[part][1]).squaredNorm() <= turn * turn)
+    return formed->h[part];
+  if (part == 0) formed->normal = n;
+  formed->parts = part + 1;
+  formed->element[part] = sp.element;
+  formed->xi[part] = sp.xi;
+  formed->tangent[part] = {t0, t1};
+  formed->h[part] = sign * contactRow((*pb.devices)[device], xd, sp, n);
+  return formed->h[part];
+}
+
 /// The rows of H and q at x, as parts per device.
-void formRows(const ContactProblem& pb, const ContactOptions& o, const LoopState& s,
-              LoopSystem* sys, std::vector<std::vector<RowPart>>* parts) {
+void formRows(const ContactProblem& pb, const ContactOptions& o, LoopState& s, LoopSystem* sys,
+              std::vector<std::vector<RowPart>>* parts) {
   const auto& devices = *pb.devices;
   const auto& start = *pb.start;
   const auto& samples = *pb.samples;
@@ -198,18 +221,29 @@ void formRows(const ContactProblem& pb, const ContactOptions& o, const LoopState
   // from x_f (a pre-shaped tip squeezed into a narrow lumen springs open by
   // millimetres in the free motion) keeps stale rows and stops converging.
   // Adds the part's row of H at x; returns its share of H (x_f - x).
-  auto addPart = [&](int row, int device, const SamplePoint& sp, const Vec3& n, double sign) {
-    const Row12 h = sign * contactRow(devices[device], x[device], sp, n);
+  auto addRow = [&](int row, int device, const SamplePoint& sp, const Row12& h) {
     (*parts)[device].push_back({row, sp.element, h});
     const int at = 6 * sp.element;
     return h.dot(sys->dq_step[device].segment<12>(at) - s.dq[device].segment<12>(at));
   };
+  auto addPart = [&](int row, int device, const SamplePoint& sp, const Vec3& n, double sign) {
+    return addRow(row, device, sp, sign * contactRow(devices[device], x[device], sp, n));
+  };
+  // Rows are kept where that keeps W's entries: on a device whose last
+  // loop's W came from the band, kept while the band stays (deviceOperator);
+  // elsewhere W is formed whole again, and a row formed at x costs nothing
+  // more than a kept one.
+  s.formed.resize(sys->c);
+  auto turn = [&](int device) { return s.last_rows[device].empty() ? 0.0 : o.row_turn; };
   for (int i = 0; i < sys->c; ++i) {
     Contact& ct = (*s.contacts)[i];
     const SamplePoint& sp = contactPointOf(ct, samples);
     const Vec3 p = samplePosition(devices[ct.device], x[ct.device], sp);
     const int row = dim * i;
-    sys->q(row) = addPart(row, ct.device, sp, ct.normal, 1.0);
+    FormedRow* formed = &s.formed[i];
+    sys->q(row) =
+        addRow(row, ct.device, sp,
+               normalRow(pb, x, ct.device, sp, ct.normal, 1.0, 0, turn(ct.device), formed));
     const SamplePoint* so = nullptr;
     Vec3 po = Vec3::Zero();
     if (ct.other_device < 0) {
@@ -218,7 +252,9 @@ void formRows(const ContactProblem& pb, const ContactOptions& o, const LoopState
       so = &ct.other;
       po = samplePosition(devices[ct.other_device], x[ct.other_device], *so);
       sys->q(row) += ct.normal.dot(p - po) - ct.separation +
-                     addPart(row, ct.other_device, *so, ct.normal, -1.0);
+                     addRow(row, ct.other_device, *so,
+                            normalRow(pb, x, ct.other_device, *so, ct.normal, -1.0, 1,
+                                      turn(ct.other_device), formed));
     }
     if (!o.friction) continue;
     // Tangent rows: q is the slip over the step (relative to the other
@@ -298,9 +334,9 @@ bool fromBand(size_t d, const LoopState& s, const LoopSystem& sys) {
 
 /// Device d's operator H_d A^-1 H_d^T: from the block solve (*Wd, and Y)
 /// or from the band (fromBand; kept in s->last_W[d] for the next loop;
-/// returned).
+/// returned). *kept counts the rows whose entries were kept.
 const DelassusBuffer* deviceOperator(const ContactProblem& pb, size_t d, LoopState* s,
-                                     LoopSystem* sys, MatX* Wd) {
+                                     LoopSystem* sys, MatX* Wd, int* kept) {
   auto& ws = *pb.workspaces;
   const std::vector<ContactRow>& device_rows = sys->rows_of[d];
   if (!fromBand(d, *s, *sys)) {
@@ -313,8 +349,10 @@ const DelassusBuffer* deviceOperator(const ContactProblem& pb, size_t d, LoopSta
   // at a node no tangent term) keep their entries among themselves.
   const std::vector<ContactRow>& before = s->last_rows[d];
   std::vector<char> changed(before.size(), 1);
-  for (size_t r = 0; r < before.size() && r < device_rows.size(); ++r)
+  for (size_t r = 0; r < before.size() && r < device_rows.size(); ++r) {
     changed[r] = !sameRow(before[r], device_rows[r]);
+    *kept += !changed[r];
+  }
   updateChainDelassusOperator(ws[d].inverse, device_rows, changed, &s->last_W[d]);
   s->last_rows[d] = device_rows;
   return &s->last_W[d];
@@ -390,7 +428,7 @@ void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopS
     deviceRows(parts[d], (*pb.workspaces)[d].first_free_node, rows, &column_of_row,
                &sys->of_device[d], &sys->rows_of[d]);
     MatX Wd;
-    const DelassusBuffer* kept = deviceOperator(pb, d, s, sys, &Wd);
+    const DelassusBuffer* kept = deviceOperator(pb, d, s, sys, &Wd, &sys->kept_rows);
     const MatXView Wdev = kept ? kept->view() : MatXView(Wd);  // this device's operator
     const auto& idx = sys->of_device[d];
     bool identity =
@@ -460,6 +498,7 @@ void placeAtFreeMotion(const ContactProblem& pb, LoopState* s) {
 void restartAtFreeMotion(const ContactProblem& pb, LoopState* s) {
   placeAtFreeMotion(pb, s);
   s->contacts->clear();
+  s->formed.clear();
   for (auto& of : s->contact_of) std::fill(of.begin(), of.end(), -1);
   s->pair_contact.clear();
   for (auto& of : s->lumen_of) std::fill(of.begin(), of.end(), -1);

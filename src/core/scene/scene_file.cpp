@@ -168,6 +168,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
           "keep_gap",
           "pair_tolerance",
           "new_pair_overlap",
+          "row_turn",
           "lumen_tolerance",
           "root_tolerance",
           "wall_curvature",
@@ -205,6 +206,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   o.keep_gap = r.number(n, "keep_gap", "contact.", o.keep_gap);
   o.pair_tolerance = r.number(n, "pair_tolerance", "contact.", o.pair_tolerance);
   o.new_pair_overlap = r.number(n, "new_pair_overlap", "contact.", o.new_pair_overlap);
+  o.row_turn = r.number(n, "row_turn", "contact.", o.row_turn);
   o.root.tolerance = r.number(n, "root_tolerance", "contact.", o.root.tolerance);
   auto flag = [&](const char* key, bool fallback) {
     if (!n[key]) return fallback;

@@ -226,6 +226,13 @@ std::vector<SchemaEntry> makeSchema() {
           .unit("m")
           .def("0")
           .in("[]", 0.0, 1e-4),
+      Key("contact.row_turn", T::kNumber,
+          "a contact's normal row of H is formed again at the loop's iterate once a node tangent "
+          "of its element turned by more since the row was formed (0: every loop; an unchanged "
+          "row keeps its entries of W; docs/performance.md)")
+          .unit("rad")
+          .def("0.02")
+          .in("[]", 0.0, 0.1),
       Key("contact.root_tolerance", T::kNumber, "the first root's position")
           .unit("m")
           .def("1e-11")

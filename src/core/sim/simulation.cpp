@@ -96,6 +96,7 @@ void addResults(const ContactStats& c, StepStats* s) {
   s->max_penetration_m = c.max_penetration_m;
   s->tunnels += c.tunnelled;
   s->on_demand_loops += c.on_demand_loops;
+  s->kept_rows += c.kept_rows;
   s->first_rows = c.first_rows;
   s->late_rows += c.late_rows;
 }
