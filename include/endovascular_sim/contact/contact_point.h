@@ -59,7 +59,7 @@ struct HermiteAxis {
   /// A bound [m] of how far the curve strays from its chord p1 - p0.
   double bow() const;
   /// The parameter in [0, 1] of the curve's point closest to y: Newton on
-  /// |p(xi) - y|^2 / 2 from xi (at most 8 steps, to 1e-12).
+  /// |p(xi) - y|^2 / 2 from xi (at most 8 steps, until a step is below 1e-10).
   double closestParameter(const Vec3& y, double xi) const;
 };
 

@@ -80,7 +80,9 @@ double closestAxisPoints(const HermiteAxis& a, const HermiteAxis& b, double* xi_
       *xi_a = na, *xi_b = nb;
       break;
     }
-    const bool settled = std::abs(na - *xi_a) < 1e-13 && std::abs(nb - *xi_b) < 1e-13;
+    // Settled once a step moves neither parameter by 1e-10: Newton's next
+    // error is about the square of that step (1e-20 of the element).
+    const bool settled = std::abs(na - *xi_a) < 1e-10 && std::abs(nb - *xi_b) < 1e-10;
     *xi_a = na, *xi_b = nb;
     if (settled) break;
   }

@@ -127,7 +127,7 @@ double HermiteAxis::closestParameter(const Vec3& y, double xi) const {
     const double h = a.second.dot(r) + a.first.squaredNorm();
     if (!(h > 0.0)) break;
     const double next = std::clamp(xi - g / h, 0.0, 1.0);
-    const bool done = std::abs(next - xi) < 1e-12;
+    const bool done = std::abs(next - xi) < 1e-10;  // (the next error about its square)
     xi = next;
     if (done) break;
   }

@@ -402,29 +402,38 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
   if (!now.empty()) {
     PairCandidates& c = *candidates;
     ++c.reuses;
-    // How far each element's axis moved since the list was built.
-    std::vector<double> drift(c.control.size(), 0.0);
-    for (size_t k = 0; k < drift.size(); ++k) {
+    // How far each element's axis moved since the last pass, and what a
+    // candidate's test reads of it, in one small array.
+    std::vector<PairCandidates::Reach>& reach_of = c.reach_of;
+    reach_of.assign(c.control.size(), {0.0, 0.0, 0.0});
+    for (size_t k = 0; k < reach_of.size(); ++k) {
       if (now[k] < 0) continue;
-      const std::array<Vec3, 4> at = controlPoints(els[now[k]].axis);
-      for (int q = 0; q < 4; ++q) drift[k] = std::max(drift[k], (at[q] - c.control[k][q]).norm());
+      const ElementRef& el = els[now[k]];
+      const std::array<Vec3, 4> at = controlPoints(el.axis);
+      double drift = 0.0;
+      for (int q = 0; q < 4; ++q) drift = std::max(drift, (at[q] - c.control[k][q]).norm());
+      c.control[k] = at;
+      reach_of[k] = {drift, el.point.radius, el.sweep};
     }
     for (size_t q = 0; q < c.pairs.size(); ++q) {
       const auto [k, l] = c.pairs[q];
       const int i = now[k], j = now[l];
-      if (i < 0 || j < 0) continue;
+      if (i < 0 || j < 0) {  // (not measured in this pass: no bound kept)
+        c.slack[q] = -std::numeric_limits<double>::infinity();
+        continue;
+      }
       // Kept apart: farther than both radii and the margin, and farther
       // than both axes moved in the step (no swept test).
-      const double moved = drift[k] + drift[l];
-      const double bound = c.slack[q] - moved;
-      if (bound >= els[i].point.radius + els[j].point.radius + margin &&
-          (!from || els[i].sweep + els[j].sweep < bound)) {
+      const PairCandidates::Reach &a = reach_of[k], &b = reach_of[l];
+      const double bound = c.slack[q] - (a.drift + b.drift);
+      if (bound >= a.radius + b.radius + margin && (!from || a.sweep + b.sweep < bound)) {
+        c.slack[q] = bound;
         ++c.kept_apart;
         continue;
       }
       double apart = -std::numeric_limits<double>::infinity();
       check(i, j, &apart);
-      c.slack[q] = apart - moved;
+      c.slack[q] = apart;
     }
     std::sort(out.begin(), out.end(), byIndex);
     return out;

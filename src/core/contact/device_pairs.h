@@ -155,21 +155,26 @@ class StartAxes {
 /// every element is free or held as it was there and its box stays within
 /// its box there grown by the skin (device_pairs.cpp).
 ///
-/// Each candidate also keeps a lower bound of its axes' distance from the
-/// last pass that measured it, less how far both axes had moved from where
-/// the list was built (`slack`): an axis is a cubic Bezier curve, so none
-/// of its points moved farther than its farthest control point (`drift`),
-/// and the distance now is at least slack less both drifts now. A pass
-/// skips the candidates that bound keeps apart (findPairs).
+/// Each candidate also keeps a lower bound of its axes' distance as of the
+/// last pass (`slack`): measured where that pass checked it, else the
+/// bound before less how far both axes moved since. An axis is a cubic
+/// Bezier curve, so none of its points moved farther than its farthest
+/// control point, and the distance now is at least the last bound less
+/// both axes' motion since the last pass. A pass skips the candidates that
+/// bound keeps apart (findPairs).
 struct PairCandidates {
   double skin{0.0};                          // [m]
   double reach{-1.0};                        // the reach it was built for [m] (< 0: none)
   std::vector<std::vector<int>> slot;        // per device and element: its index below, or -1
   std::vector<Eigen::AlignedBox3d> box;      // per element when built: its box grown by the skin
   std::vector<char> free;                    // and whether it was free
-  std::vector<std::array<Vec3, 4>> control;  // and its axis' Bezier control points [m]
+  std::vector<std::array<Vec3, 4>> control;  // its axis' Bezier control points at the last pass [m]
   std::vector<std::array<int, 2>> pairs;     // the candidates (indices above)
   std::vector<double> slack;                 // per candidate [m] (-inf: not yet measured)
+  struct Reach {                             // per element, a pass's scratch:
+    double drift, radius, sweep;             // its motion since the last pass, radius, sweep [m]
+  };
+  std::vector<Reach> reach_of;
   int builds{0}, reuses{0};
   long kept_apart{0};  // candidates a pass skipped on their slack
 };
