@@ -10,11 +10,12 @@
 //    repeat (partial pricing: the rows violated at the last evaluation of
 //    every gap are watched, and the most violated of them is activated
 //    while one is; every gap is evaluated again only when none is, and
-//    always before the answer). By default the active set starts empty: a step's rows hold
-//    many redundant candidates (neighbouring sample points seeing one wall),
-//    of which few carry a force, so growing the set from the most violated
-//    row needs 5-25x fewer pivots on scene LCPs than the paper's start
-//    from every violated row (`start_from_violated`, kept as an option).
+//    always before the answer). By default the active set starts empty: a
+//    step's rows hold many redundant candidates (neighbouring sample
+//    points seeing one wall), of which few carry a force, so growing the
+//    set from the most violated row needs 5-25x fewer pivots on scene LCPs
+//    than the paper's start from every violated row
+//    (`start_from_violated`, kept as an option).
 //    The active set's Cholesky factor is updated by one row or column per
 //    change (O(c^2)), never refactorised, and the forward solution
 //    L^-1 b_a with it (O(k)): a pivot's re-solve is one triangular solve.

@@ -105,11 +105,13 @@ class SamplePositions {
 /// formRows reuses it, bit for bit, while its points and normal are the
 /// same and no node tangent turned by more than options.row_turn, on a
 /// device whose last loop took W from the band: W's entries among
-/// unchanged rows are then kept from the last loop (deviceOperator). A kept row's rotational terms
-/// (h10 L t x n, |h10| <= 4/27) differ from the row at x by at most row_turn of theirs, so the gap
-/// the loop's linear problem predicts differs from the linearisation at x by at most 4/27 row_turn
-/// L times the correction's turn: 1.5e-8 m for 2e-2 and 1e-2 rad over a 0.5 mm element, 1.5 % of
-/// the wall's penetration tolerance. The loop's detection at x checks the true gaps either way.
+/// unchanged rows are then kept from the last loop (deviceOperator). A
+/// kept row's rotational terms (h10 L t x n, |h10| <= 4/27) differ from
+/// the row at x by at most row_turn of theirs, so the gap the loop's
+/// linear problem predicts differs from the linearisation at x by at most
+/// 4/27 row_turn L times the correction's turn: 1.5e-8 m for 2e-2 and
+/// 1e-2 rad over a 0.5 mm element, 1.5 % of the wall's penetration
+/// tolerance. The loop's detection at x checks the true gaps either way.
 struct FormedRow {
   int parts{0};  // 0: none formed
   Vec3 normal{Vec3::Zero()};
