@@ -32,8 +32,9 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
     << ",\"lcp_residual\":" << num(s.lcp_residual) << ",\"subdivisions\":" << s.subdivisions
     << ",\"max_penetration_m\":" << num(s.max_penetration_m) << ",\"tunnels\":" << s.tunnels
     << ",\"on_demand_loops\":" << s.on_demand_loops << ",\"first_rows\":" << s.first_rows
-    << ",\"kept_rows\":" << s.kept_rows << ",\"late_rows\":{\"wall\":" << s.late_rows.wall
-    << ",\"pair\":" << s.late_rows.pair << ",\"lumen\":" << s.late_rows.lumen << "}"
+    << ",\"kept_rows\":" << s.kept_rows << ",\"slid_forces\":" << s.slid_forces
+    << ",\"late_rows\":{\"wall\":" << s.late_rows.wall << ",\"pair\":" << s.late_rows.pair
+    << ",\"lumen\":" << s.late_rows.lumen << "}"
     << ",\"asleep\":" << (s.asleep ? "true" : "false") << ",\"devices\":[";
   for (size_t i = 0; i < model.devices.size(); ++i) {
     const DeviceState& d = data.devices[i];

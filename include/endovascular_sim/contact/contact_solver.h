@@ -78,6 +78,9 @@ struct ContactOptions {
                                        // f the last step's contact forces, not at x_f
   bool columns_on_demand{true};        // frictionless status method: W's columns formed as it reads
                                        // them, not the whole W (contact/delassus_columns.h)
+  bool slid_pair_warm_start{true};     // element pairs: a new pair of the first detection next
+                                       // to a pair kept from the last step with a force takes that
+                                       // force over as the LCP's warm start (pair_detection.h)
   double pair_tolerance{0.0};          // effect 'device_contact': two device surfaces that overlap
                                        // by more are violated (at least penetration_tolerance) [m]
   double new_pair_overlap{0.0};        // effect 'device_contact': a pair not held in the last
@@ -166,6 +169,7 @@ struct ContactStats {
   int lumen_passes{0};       // coaxial lumen detection passes (effect 'coaxial')
   int on_demand_loops{0};    // loops whose W was formed column by column (columns_on_demand)
   int kept_rows{0};  // rows whose entries of W a loop kept from the last (contact.row_turn), summed
+  int slid_forces{0};  // forces a new pair took over as its warm start (slid_pair_warm_start)
   int first_rows{0};   // rows of the first loop's LCP
   LateRows late_rows;  // rows the loop added after its first LCP, by kind
 };

@@ -106,6 +106,8 @@ struct StepStats {
   int first_rows{0};       // rows of the first activation loop's LCP (of the last sub-step)
   int kept_rows{0};        // rows whose entries of W a loop kept from the last, summed over the
                            // loops (contact.row_turn)
+  int slid_forces{0};      // forces new pairs took over from the last step's neighbouring pairs
+                           // as warm starts (contact.slid_pair_warm_start)
   LateRows late_rows;      // rows the activation loops added after their first LCP, summed over
                            // sub-steps: the contacts each loop found late, by kind
   bool asleep{false};      // the scene slept through this step (SleepOptions): nothing was solved

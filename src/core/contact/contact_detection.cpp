@@ -460,11 +460,18 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
   // other, and the first loop's contacts undo most of those passes.
   if (o.device_contact) {
     const auto tp = Clock::now();
+    const int kept_from = static_cast<int>(s->contacts->size());
     keepPairs(pb, o.element_pairs, s);
+    const std::array<int, 2> kept{kept_from, static_cast<int>(s->contacts->size())};
     const bool passed_through = s->contacts->empty();
-    for (const FoundPair& f : devicePairs(pb, o.element_pairs, s->x, -o.new_pair_overlap,
-                                          stepStartAxes(pb, o, s), passed_through, true, &s->at_x))
-      if (!s->pair_contact.count(f.key)) addPair(f, s);
+    for (const FoundPair& f :
+         devicePairs(pb, o.element_pairs, s->x, -o.new_pair_overlap, stepStartAxes(pb, o, s),
+                     passed_through, true, &s->at_x)) {
+      if (s->pair_contact.count(f.key)) continue;
+      addPair(f, s);
+      if (o.element_pairs && o.slid_pair_warm_start)
+        st->slid_forces += takeOverSlidForce(f, kept, s);
+    }
     ++st->pair_passes;
     st->pairs_ms += msSince(tp);
   }

@@ -326,6 +326,26 @@ void addPair(const FoundPair& f, LoopState* s) {
   s->contacts->push_back(ct);
 }
 
+bool takeOverSlidForce(const FoundPair& f, std::array<int, 2> kept, LoopState* s) {
+  // One element along one axis first, then along both.
+  constexpr int kAlong[8][2] = {{-1, 0},  {1, 0}, {0, -1}, {0, 1},
+                                {-1, -1}, {1, 1}, {-1, 1}, {1, -1}};
+  Contact& taker = (*s->contacts)[s->pair_contact.at(f.key)];
+  for (const auto& step : kAlong) {
+    const auto it =
+        s->pair_contact.find({f.key[0], f.key[1] + step[0], f.key[2], f.key[3] + step[1]});
+    if (it == s->pair_contact.end() || it->second < kept[0] || it->second >= kept[1]) continue;
+    Contact& left = (*s->contacts)[it->second];
+    if (!(left.force > 0.0)) continue;
+    taker.force = left.force;
+    taker.friction = left.friction;  // (the friction solver's warm start)
+    left.force = 0.0;
+    left.friction.setZero();
+    return true;
+  }
+  return false;
+}
+
 const pairs::StartAxes* stepStartAxes(const ContactProblem& pb, const ContactOptions& o,
                                       LoopState* s) {
   if (!o.element_pairs) return nullptr;

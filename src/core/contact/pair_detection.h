@@ -56,6 +56,18 @@ void keepPairs(const ContactProblem& pb, bool element_pairs, LoopState* s);
 /// A new pair contact in the loop's contacts.
 void addPair(const FoundPair& f, LoopState* s);
 
+/// Element pairs: a new pair found at the loop's first iterate next to a
+/// pair kept from the last step with a force (one element along on either
+/// axis, or on both), that force not yet taken over, takes it over as its
+/// warm start. The two axes' closest points slid past a node since the
+/// last step: a coil's turns sliding along each other move up to half a
+/// millimetre a step, and the force that held them holds them at the
+/// neighbouring element pair now. Started from zero there, and from the
+/// old force at the pair left behind, each such contact cost the first
+/// loop's LCP an activation and a deactivation. `kept`: the contacts
+/// [kept[0], kept[1]) keepPairs added. Returns whether it took one over.
+bool takeOverSlidForce(const FoundPair& f, std::array<int, 2> kept, LoopState* s);
+
 /// Device pairs closer than the sum of their radii less the tolerance
 /// (options.pair_tolerance, at least penetration_tolerance) at the loop's
 /// x: a pair's points and normal moved to where they are at x once a step,

@@ -177,6 +177,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
           "detect_on_first_iterate",
           "predict_first_iterate",
           "columns_on_demand",
+          "slid_pair_warm_start",
           "lumen_settle",
           "friction_solver",
           "friction_tolerance",
@@ -221,6 +222,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   o.detect_on_first_iterate = flag("detect_on_first_iterate", o.detect_on_first_iterate);
   o.predict_first_iterate = flag("predict_first_iterate", o.predict_first_iterate);
   o.columns_on_demand = flag("columns_on_demand", o.columns_on_demand);
+  o.slid_pair_warm_start = flag("slid_pair_warm_start", o.slid_pair_warm_start);
   o.element_pairs = flag("element_pairs", o.element_pairs);
   o.lumen_tolerance = r.number(n, "lumen_tolerance", "contact.", o.lumen_tolerance);
   o.lumen_settle = r.number(n, "lumen_settle", "contact.", o.lumen_settle);

@@ -257,6 +257,10 @@ std::vector<SchemaEntry> makeSchema() {
       Key("contact.columns_on_demand", T::kBool,
           "frictionless status method: W's columns formed as the method reads them")
           .def("true"),
+      Key("contact.slid_pair_warm_start", T::kBool,
+          "element pairs: a new pair next to one kept from the last step takes over its force as "
+          "the first loop's warm start (a contact slid past a node; docs/performance.md)")
+          .def("true"),
       Key("contact.element_pairs", T::kBool,
           "effect 'device_contact': pairs between the elements' axes, at their closest points, "
           "with a swept test over each step (false: between sample points; docs/model.md)")

@@ -97,6 +97,7 @@ void addResults(const ContactStats& c, StepStats* s) {
   s->tunnels += c.tunnelled;
   s->on_demand_loops += c.on_demand_loops;
   s->kept_rows += c.kept_rows;
+  s->slid_forces += c.slid_forces;
   s->first_rows = c.first_rows;
   s->late_rows += c.late_rows;
 }
