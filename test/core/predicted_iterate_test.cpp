@@ -31,29 +31,19 @@ TEST(PredictedFirstIterate, TheCoilsStepsObeySignoriniInFewerLoops) {
   SceneModel predicted = from_free;
   predicted.contact.predict_first_iterate = true;
   const double tol = from_free.contact.penetration_tolerance;
-  SimData d = makeData(from_free);
-  for (int k = 0; k < 6000; ++k) ASSERT_EQ(step(from_free, &d), StepStatus::kOk) << d.last_error;
-  int loops_free = 0, loops_predicted = 0;
-  double gap_free = 0.0, gap_predicted = 0.0, apart = 0.0;
-  for (int k = 0; k < 300; ++k) {
-    SimData other = d;
-    ASSERT_EQ(step(predicted, &other), StepStatus::kOk) << "step " << k << ": " << other.last_error;
-    ASSERT_EQ(step(from_free, &d), StepStatus::kOk) << "step " << k << ": " << d.last_error;
-    EXPECT_LE(other.stats.max_penetration_m, tol) << "step " << k;
-    for (const Contact& c : other.contacts) EXPECT_GE(c.gap, -tol) << "step " << k;
-    gap_free = std::max(gap_free, largestActiveGap(d));
-    gap_predicted = std::max(gap_predicted, largestActiveGap(other));
-    apart = std::max(apart, largestNodeDistance(other.devices, d.devices));
-    loops_free += d.stats.activation_loops;
-    loops_predicted += other.stats.activation_loops;
-  }
+  test::BothWays t;  // a: from x_f, b: predicted
+  ASSERT_NO_FATAL_FAILURE(test::stepBothWays(from_free, predicted, 6000, 300,
+                                             [&](int k, const SimData& d, const SimData& other) {
+                                               test::expectWithinTolerance(other, tol, k);
+                                               t.add(d, other);
+                                             }));
   std::printf(
-      "[ metric   ] aneurysm t = 6-6.3 s: loops %d from x_f, %d predicted; largest |gap| of an "
+      "[ metric   ] aneurysm t = 6-6.3 s: loops %ld from x_f, %ld predicted; largest |gap| of an "
       "active contact %.3g m from x_f, %.3g m predicted; answers %.3g m apart at most\n",
-      loops_free, loops_predicted, gap_free, gap_predicted, apart);
-  EXPECT_LE(gap_predicted, tol);
-  EXPECT_LE(gap_free, tol);
-  EXPECT_LT(loops_predicted, loops_free);
+      t.loops_a, t.loops_b, t.gap_a, t.gap_b, t.apart);
+  EXPECT_LE(t.gap_b, tol);
+  EXPECT_LE(t.gap_a, tol);
+  EXPECT_LT(t.loops_b, t.loops_a);
 }
 
 // The carotid wire fully inserted and at rest (t = 11 s, sleep off): the

@@ -16,9 +16,6 @@
 namespace evsim {
 namespace {
 
-using test::largestActiveGap;
-using test::largestNodeDistance;
-
 // The coil of `aneurysm_packed` filling its dome (t = 4.5-4.8 s, 60-100
 // rows, W from the band of A^-1): each loop's correction turns its
 // elements by up to 1e-2 rad, and most rows' points and normals stay from
@@ -29,40 +26,31 @@ TEST(RowTurn, KeptRowsGiveTheAnswerOfRowsFormedEveryLoop) {
   SceneModel formed = kept;
   formed.contact.row_turn = 0.0;
   const double tol = std::max(kept.contact.penetration_tolerance, kept.contact.pair_tolerance);
-  SimData d = makeData(kept);
-  for (int k = 0; k < 4500; ++k) ASSERT_EQ(step(kept, &d), StepStatus::kOk) << d.last_error;
-  long loops_kept = 0, loops_formed = 0, rows_kept = 0, rows_formed = 0, later_rows = 0;
-  double gap_kept = 0.0, gap_formed = 0.0, apart = 0.0;
-  for (int k = 0; k < 300; ++k) {
-    SimData other = d;
-    ASSERT_EQ(step(formed, &other), StepStatus::kOk) << "step " << k << ": " << other.last_error;
-    ASSERT_EQ(step(kept, &d), StepStatus::kOk) << "step " << k << ": " << d.last_error;
-    EXPECT_LE(d.stats.max_penetration_m, tol) << "step " << k;
-    for (const Contact& c : d.contacts) EXPECT_GE(c.gap, -tol) << "step " << k;
-    gap_kept = std::max(gap_kept, largestActiveGap(d));
-    gap_formed = std::max(gap_formed, largestActiveGap(other));
-    apart = std::max(apart, largestNodeDistance(d.devices, other.devices));
-    loops_kept += d.stats.activation_loops;
-    loops_formed += other.stats.activation_loops;
-    rows_kept += d.stats.kept_rows;
-    rows_formed += other.stats.kept_rows;
-    if (d.stats.activation_loops > 1)
-      later_rows += (d.stats.activation_loops - 1) * d.stats.contacts;
-  }
+  long rows_kept = 0, rows_formed = 0, later_rows = 0;
+  test::BothWays t;  // a: rows kept, b: formed every loop
+  ASSERT_NO_FATAL_FAILURE(test::stepBothWays(
+      kept, formed, 4500, 300, [&](int k, const SimData& d, const SimData& other) {
+        test::expectWithinTolerance(d, tol, k);
+        t.add(d, other);
+        rows_kept += d.stats.kept_rows;
+        rows_formed += other.stats.kept_rows;
+        if (d.stats.activation_loops > 1)
+          later_rows += (d.stats.activation_loops - 1) * d.stats.contacts;
+      }));
   std::printf(
       "[ metric   ] aneurysm_packed t = 4.5-4.8 s: loops %ld kept, %ld formed every loop; rows of "
       "the later loops (about %ld) whose W was kept: %ld, %ld formed every loop (unmoved); "
       "largest |gap| of an active contact %.3g m kept, %.3g m formed; answers %.3g m apart at "
       "most\n",
-      loops_kept, loops_formed, later_rows, rows_kept, rows_formed, gap_kept, gap_formed, apart);
+      t.loops_a, t.loops_b, later_rows, rows_kept, rows_formed, t.gap_a, t.gap_b, t.apart);
   // Formed every loop, a row is the same only where its element did not
   // move; kept, most of the later loops' rows are.
   EXPECT_GT(rows_kept, later_rows / 2);
   EXPECT_GT(rows_kept, 2 * rows_formed);
-  EXPECT_LE(gap_kept, tol);
-  EXPECT_LE(gap_formed, tol);
-  EXPECT_LE(apart, tol);
-  EXPECT_LE(loops_kept, loops_formed + loops_formed / 20);
+  EXPECT_LE(t.gap_a, tol);
+  EXPECT_LE(t.gap_b, tol);
+  EXPECT_LE(t.apart, tol);
+  EXPECT_LE(t.loops_a, t.loops_b + t.loops_b / 20);
 }
 
 // A scene's row_turn out of its range is refused by the options' check.

@@ -3,6 +3,8 @@
 // the two answers lie apart.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -28,6 +30,44 @@ inline double largestNodeDistance(const std::vector<DeviceState>& a,
     for (size_t i = 0; i < a[d].position.size(); ++i)
       worst = std::max(worst, (a[d].position[i] - b[d].position[i]).norm());
   return worst;
+}
+
+/// An answer within the tolerance: no point beyond the wall, and no
+/// contact's gap below, by more than tol [m] (step k, for the message).
+inline void expectWithinTolerance(const SimData& d, double tol, int k) {
+  EXPECT_LE(d.stats.max_penetration_m, tol) << "step " << k;
+  for (const Contact& c : d.contacts) EXPECT_GE(c.gap, -tol) << "step " << k;
+}
+
+/// What the tests that step one state two ways (a and b) add up: the
+/// activation loops of each, the largest |gap| of an active contact of
+/// each [m], and how far apart their answers lie at most [m].
+struct BothWays {
+  long loops_a{0}, loops_b{0};
+  double gap_a{0.0}, gap_b{0.0}, apart{0.0};
+  void add(const SimData& a, const SimData& b) {
+    loops_a += a.stats.activation_loops;
+    loops_b += b.stats.activation_loops;
+    gap_a = std::max(gap_a, largestActiveGap(a));
+    gap_b = std::max(gap_b, largestActiveGap(b));
+    apart = std::max(apart, largestNodeDistance(a.devices, b.devices));
+  }
+};
+
+/// Steps scene `a` `warmup` times, then `steps` times, each step also
+/// taken from the same state with scene `b` (an option on and off), and
+/// calls visit(k, after_a, after_b) after each. A failed step is a fatal
+/// failure (the caller's ASSERT_NO_FATAL_FAILURE stops there).
+template <typename Visit>
+void stepBothWays(const SceneModel& a, const SceneModel& b, int warmup, int steps, Visit&& visit) {
+  SimData d = makeData(a);
+  for (int k = 0; k < warmup; ++k) ASSERT_EQ(step(a, &d), StepStatus::kOk) << d.last_error;
+  for (int k = 0; k < steps; ++k) {
+    SimData other = d;
+    ASSERT_EQ(step(b, &other), StepStatus::kOk) << "step " << k << ": " << other.last_error;
+    ASSERT_EQ(step(a, &d), StepStatus::kOk) << "step " << k << ": " << d.last_error;
+    visit(k, static_cast<const SimData&>(d), static_cast<const SimData&>(other));
+  }
 }
 
 }  // namespace evsim::test
