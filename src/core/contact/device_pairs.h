@@ -152,31 +152,43 @@ class StartAxes {
 /// Candidate element pairs kept from pass to pass (a Verlet list): the
 /// pairs whose boxes, grown by a skin, came within reach of each other where
 /// it was built (the pairs of two held elements left out); reused while
-/// every element is free or held as it was there and its box stays within
-/// its box there grown by the skin (device_pairs.cpp).
+/// every element is free or held, and on its body, as it was there and its
+/// box stays within its box there grown by the skin (device_pairs.cpp).
 ///
 /// Each candidate also keeps a lower bound of its axes' distance as of the
 /// last pass (`slack`): measured where that pass checked it, else the
 /// bound before less how far both axes moved since. An axis is a cubic
-/// Bezier curve, so none of its points moved farther than its farthest
-/// control point, and the distance now is at least the last bound less
-/// both axes' motion since the last pass. A pass skips the candidates that
-/// bound keeps apart (findPairs).
+/// Bezier curve, so each of its points moved by a Bezier combination of
+/// its control points' displacements, and the distance now is at least
+/// the last bound less how far the two axes moved relative to each other
+/// since the last pass (bounded from those displacements: Motion). A pass
+/// skips the candidates that bound keeps apart (findPairs). A build
+/// carries the slack of the list it replaces over to the pairs in both, by
+/// the same rule from where their axes were when it was last measured.
 struct PairCandidates {
   double skin{0.0};                          // [m]
   double reach{-1.0};                        // the reach it was built for [m] (< 0: none)
   std::vector<std::vector<int>> slot;        // per device and element: its index below, or -1
   std::vector<Eigen::AlignedBox3d> box;      // per element when built: its box grown by the skin
   std::vector<char> free;                    // and whether it was free
+  std::vector<int> body;                     // and its body (ElementRef::body)
   std::vector<std::array<Vec3, 4>> control;  // its axis' Bezier control points at the last pass [m]
   std::vector<std::array<int, 2>> pairs;     // the candidates (indices above)
   std::vector<double> slack;                 // per candidate [m] (-inf: not yet measured)
-  struct Reach {                             // per element, a pass's scratch:
-    double drift, radius, sweep;             // its motion since the last pass, radius, sweep [m]
+  struct Motion {   // how an axis moved between two passes [m] (device_pairs.cpp)
+    Vec3 shift;     // its control points' mean displacement
+    double spread;  // the farthest of them from that
+    double drift;   // the farthest of them
+  };
+  struct Reach {    // per element, a pass's scratch:
+    Motion motion;  // its motion since the last pass
+    double radius;  // [m]
+    double sweep;   // [m] (ElementRef::sweep)
   };
   std::vector<Reach> reach_of;
   int builds{0}, reuses{0};
   long kept_apart{0};  // candidates a pass skipped on their slack
+  long carried{0};     // of those, at a build, on the slack of the list it replaced
 };
 
 /// Pairs of elements, at least one of them free, whose axes at x come
