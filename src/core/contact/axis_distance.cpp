@@ -49,8 +49,10 @@ Eigen::AlignedBox3d axisBox(const DeviceModel& model, const DeviceState& x, int 
   return Eigen::AlignedBox3d(box.min().array() - bow, box.max().array() + bow);
 }
 
-double closestAxisPoints(const HermiteAxis& a, const HermiteAxis& b, double* xi_a, double* xi_b) {
-  closestOnSegments(a.p0, a.p1, b.p0, b.p1, xi_a, xi_b);
+double closestAxisPoints(const HermiteAxis& axis_a, const HermiteAxis& axis_b, double* xi_a,
+                         double* xi_b) {
+  closestOnSegments(axis_a.p0, axis_a.p1, axis_b.p0, axis_b.p1, xi_a, xi_b);
+  const AxisCubic a(axis_a), b(axis_b);  // (Newton's evaluations)
   // The axes bow off their chords (a coil's element by about L^2 kappa / 8):
   // Newton on f = |p_a(xi_a) - p_b(xi_b)|^2 / 2 in both parameters from the
   // chords' answer, kept in [0, 1]^2; a parameter on its bound gets the
@@ -71,12 +73,12 @@ double closestAxisPoints(const HermiteAxis& a, const HermiteAxis& b, double* xi_
       nb = std::clamp(*xi_b - (haa * gb - hab * ga) / det, 0.0, 1.0);
       const bool clamped = na == 0.0 || na == 1.0 || nb == 0.0 || nb == 1.0;
       if (clamped) {  // the other parameter's best for the clamped one
-        if (na == 0.0 || na == 1.0) nb = b.closestParameter(a.at(na).position, nb);
-        if (nb == 0.0 || nb == 1.0) na = a.closestParameter(b.at(nb).position, na);
+        if (na == 0.0 || na == 1.0) nb = b.closestParameter(a.position(na), nb);
+        if (nb == 0.0 || nb == 1.0) na = a.closestParameter(b.position(nb), na);
       }
     } else {  // parallel there: the distance hardly changes along them, one round
       na = a.closestParameter(pb.position, *xi_a);
-      nb = b.closestParameter(a.at(na).position, *xi_b);
+      nb = b.closestParameter(a.position(na), *xi_b);
       *xi_a = na, *xi_b = nb;
       break;
     }
@@ -86,7 +88,7 @@ double closestAxisPoints(const HermiteAxis& a, const HermiteAxis& b, double* xi_
     *xi_a = na, *xi_b = nb;
     if (settled) break;
   }
-  return (a.at(*xi_a).position - b.at(*xi_b).position).norm();
+  return (a.position(*xi_a) - b.position(*xi_b)).norm();
 }
 
 double closestAxisPoints(const DeviceModel& ma, const DeviceState& xa, int ea,

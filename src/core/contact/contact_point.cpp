@@ -120,6 +120,10 @@ double HermiteAxis::bow() const {
 }
 
 double HermiteAxis::closestParameter(const Vec3& y, double xi) const {
+  return AxisCubic(*this).closestParameter(y, xi);
+}
+
+double AxisCubic::closestParameter(const Vec3& y, double xi) const {
   for (int it = 0; it < 8; ++it) {
     const AxisPoint a = at(xi);
     const Vec3 r = a.position - y;
