@@ -19,6 +19,9 @@
 //    The active set's Cholesky factor is updated by one row or column per
 //    change (O(c^2)), never refactorised, and the forward solution
 //    L^-1 b_a with it (O(k)): a pivot's re-solve is one triangular solve.
+//    The next solve starts from the last one's factor where most of W's
+//    entries it factorises are unchanged (the activation loop's next loop),
+//    instead of factorising its warm start afresh.
 //    Rank-deficient W (redundant contacts) is handled by a stated
 //    regularisation: W + eps I, eps = regularization * max(diag W), which
 //    makes it a P-matrix. Never cycles: after 3c pivots it switches from the
@@ -77,6 +80,7 @@ struct LcpStats {
   int gap_sweeps{0};          // status method: evaluations of every gap (partial pricing: fewer
                               // than activations)
   bool switched_rule{false};  // status method: Murty's rule was needed
+  bool resumed{false};        // status method: started from the last solve's factor
   double residual{0.0};       // natural-map residual |z - max(0, z - w)| / |q|
 };
 
