@@ -417,6 +417,21 @@ TEST(DevicePairs, CandidatesKeptFromPassToPassFindTheBruteForcePairs) {
       found);
 }
 
+/// A pass of a walk of both chains: every node of `at` moved by `shift`
+/// [m] and up to `jitter` skins more, then the candidates' pairs at
+/// `margin` checked against the brute force's. Returns how many.
+int walkedPass(const TwoChains& chains, const Vec3& shift, double jitter, double margin,
+               std::vector<DeviceState>* at, pairs::PairCandidates* candidates, std::mt19937* rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double reach = jitter * candidates->skin / std::sqrt(3.0);
+  for (DeviceState& state : *at)
+    for (Vec3& p : state.position) p += shift + reach * Vec3(u(*rng), u(*rng), u(*rng));
+  const std::vector<ElementRef> els = chains.elementsAt(*at, 20);
+  return expectSamePairs(
+      pairs::findPairs(chains.devices, *at, els, margin, nullptr, true, candidates),
+      bruteForcePairs(chains.devices, *at, els, margin));
+}
+
 TEST(DevicePairs, CandidatesKeptApartByTheirSlackFindTheBruteForcePairs) {
   // The passes of a step and the steps after it move the elements a little
   // at a time, within the skin: the list is reused, and a candidate whose
@@ -440,14 +455,7 @@ TEST(DevicePairs, CandidatesKeptApartByTheirSlackFindTheBruteForcePairs) {
     for (int pass = 0; pass < 12; ++pass) {
       const double margin = pass % 3 == 0 ? 5e-5 : pass % 3 == 1 ? 0.0 : -1e-6;
       SCOPED_TRACE("trial " + std::to_string(trial) + " pass " + std::to_string(pass));
-      for (DeviceState& state : at)
-        for (Vec3& p : state.position)
-          p +=
-              0.05 * candidates.skin / std::sqrt(3.0) * Vec3(jitter(rng), jitter(rng), jitter(rng));
-      const std::vector<ElementRef> els = chains.elementsAt(at, 20);
-      found +=
-          expectSamePairs(pairs::findPairs(devices, at, els, margin, nullptr, true, &candidates),
-                          bruteForcePairs(devices, at, els, margin));
+      found += walkedPass(chains, Vec3::Zero(), 0.05, margin, &at, &candidates, &rng);
       checked += static_cast<long>(candidates.pairs.size());
       ++passes;
     }
@@ -487,16 +495,10 @@ TEST(DevicePairs, RebuiltCandidatesCarryTheSlackOverAndFindTheBruteForcePairs) {
     const Vec3 direction = Vec3(jitter(rng), jitter(rng), jitter(rng)).normalized();
     for (int pass = 0; pass < 12; ++pass) {
       SCOPED_TRACE("trial " + std::to_string(trial) + " pass " + std::to_string(pass));
-      const Vec3 shift = 0.6 * candidates.skin * direction;
-      for (DeviceState& state : at)
-        for (Vec3& p : state.position)
-          p += shift +
-               0.1 * candidates.skin / std::sqrt(3.0) * Vec3(jitter(rng), jitter(rng), jitter(rng));
-      const std::vector<ElementRef> els = chains.elementsAt(at, 20);
       const long candidates_before = static_cast<long>(candidates.pairs.size());
       const int builds_before = candidates.builds;
-      found += expectSamePairs(pairs::findPairs(devices, at, els, 0.0, nullptr, true, &candidates),
-                               bruteForcePairs(devices, at, els, 0.0));
+      found +=
+          walkedPass(chains, 0.6 * candidates.skin * direction, 0.1, 0.0, &at, &candidates, &rng);
       if (candidates.builds > builds_before) built += candidates_before;
     }
     EXPECT_GE(candidates.builds - builds, 4);  // rebuilt at a third of the passes at least
