@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <memory>
 
 namespace evsim {
 namespace pairs {
@@ -193,9 +192,10 @@ double relativeMotion(const PairCandidates::Motion& a, const PairCandidates::Mot
 /// apart by their slack before it, and they are kept so after it.
 class SlackBefore {
  public:
-  /// Takes over c's slots, bodies and control points; reads its pairs' slack.
+  /// Takes over c's slots, bodies and control points; reads its pairs'
+  /// slack (none without a list: c null, or never built).
   explicit SlackBefore(PairCandidates* c) {
-    if (c->reach < 0.0 || c->pairs.size() != c->slack.size()) return;
+    if (!c || c->reach < 0.0 || c->pairs.size() != c->slack.size()) return;
     slot_.swap(c->slot);
     body_.swap(c->body);
     control_.swap(c->control);
@@ -556,10 +556,9 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
   double grow = 0.0;
   std::vector<int> old_index;                  // per element: its index in the list replaced, or -1
   std::vector<PairCandidates::Motion> motion;  // and how its axis moved since
-  std::unique_ptr<SlackBefore> before;
+  SlackBefore before(candidates);              // (before the list below replaces it)
   if (candidates) {
     PairCandidates& c = *candidates;
-    before = std::make_unique<SlackBefore>(&c);
     c.skin = 0.1 * cell_width;
     c.reach = reach;
     grow = 2.0 * c.skin;
@@ -578,7 +577,7 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
       c.free[i] = els[i].free;
       c.body[i] = els[i].body;
       c.control[i] = controlPoints(els[i].axis);
-      old_index[i] = before->oldIndex(els[i], c.control[i], &motion[i]);
+      old_index[i] = before.oldIndex(els[i], c.control[i], &motion[i]);
     }
     c.pairs.clear();
     ++c.builds;
@@ -606,7 +605,7 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
     for (size_t q = 0; q < slack.size(); ++q) {
       const auto [i, j] = candidates->pairs[q];
       const double bound =
-          before->slack(old_index[i], old_index[j]) - relativeMotion(motion[i], motion[j]);
+          before.slack(old_index[i], old_index[j]) - relativeMotion(motion[i], motion[j]);
       if (keptApart(bound, els[i].point.radius + els[j].point.radius, margin, from != nullptr,
                     els[i].sweep + els[j].sweep)) {
         slack[q] = bound;
