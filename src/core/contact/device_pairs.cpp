@@ -495,32 +495,54 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
     PairCandidates& c = *candidates;
     ++c.reuses;
     // How far each element's axis moved since the last pass, and what a
-    // candidate's test reads of it, in one small array.
-    std::vector<PairCandidates::Reach>& reach_of = c.reach_of;
-    reach_of.assign(c.control.size(), {{Vec3::Zero(), 0.0, 0.0}, 0.0, 0.0});
-    for (size_t k = 0; k < reach_of.size(); ++k) {
-      if (now[k] < 0) continue;
+    // candidate's test reads of it, one array per quantity: an element
+    // not in this pass moved "infinitely" (its candidates get no bound).
+    PairCandidates::Reaches& r = c.reaches;
+    r.resize(c.control.size());
+    for (size_t k = 0; k < c.control.size(); ++k) {
+      if (now[k] < 0) {
+        r.x[k] = r.y[k] = r.z[k] = r.radius[k] = r.sweep[k] = 0.0;
+        r.drift[k] = r.spread[k] = std::numeric_limits<double>::infinity();
+        continue;
+      }
       const ElementRef& el = els[now[k]];
       const std::array<Vec3, 4> at = controlPoints(el.axis);
-      reach_of[k] = {motionOf(c.control[k], at), el.point.radius, el.sweep};
+      const PairCandidates::Motion m = motionOf(c.control[k], at);
+      r.x[k] = m.shift.x(), r.y[k] = m.shift.y(), r.z[k] = m.shift.z();
+      r.spread[k] = m.spread, r.drift[k] = m.drift;
+      r.radius[k] = el.point.radius, r.sweep[k] = el.sweep;
       c.control[k] = at;
     }
-    for (size_t q = 0; q < c.pairs.size(); ++q) {
-      const auto [k, l] = c.pairs[q];
-      const int i = now[k], j = now[l];
-      if (i < 0 || j < 0) {  // (not measured in this pass: no bound kept)
-        c.slack[q] = -std::numeric_limits<double>::infinity();
-        continue;
-      }
-      const PairCandidates::Reach &a = reach_of[k], &b = reach_of[l];
-      const double bound = c.slack[q] - relativeMotion(a.motion, b.motion);
-      if (keptApart(bound, a.radius + b.radius, margin, from != nullptr, a.sweep + b.sweep)) {
-        c.slack[q] = bound;
-        ++c.kept_apart;
-        continue;
-      }
+    // Two passes over the candidates: every bound first, without a branch
+    // (relativeMotion and keptApart, the same numbers: a tight loop that
+    // the checks' code does not interrupt), then the checks of those it
+    // leaves within reach.
+    const size_t count = c.pairs.size();
+    std::vector<int>& unsure = c.unsure;
+    unsure.resize(count);
+    size_t unsure_count = 0;
+    const bool swept_test = from != nullptr;
+    long kept = 0;
+    for (size_t q = 0; q < count; ++q) {
+      const int k = c.pairs[q][0], l = c.pairs[q][1];
+      const double dx = r.x[k] - r.x[l], dy = r.y[k] - r.y[l], dz = r.z[k] - r.z[l];
+      const double moved =
+          std::min(r.drift[k] + r.drift[l],
+                   std::sqrt(dx * dx + dy * dy + dz * dz) + r.spread[k] + r.spread[l]);
+      const double bound = c.slack[q] - moved;
+      const bool apart = bound >= r.radius[k] + r.radius[l] + margin &&
+                         (!swept_test || r.sweep[k] + r.sweep[l] < bound);
+      c.slack[q] = apart ? bound : c.slack[q];
+      kept += apart;
+      unsure[unsure_count] = static_cast<int>(q);
+      unsure_count += !apart;
+    }
+    c.kept_apart += kept;
+    for (size_t u = 0; u < unsure_count; ++u) {
+      const int q = unsure[u];
+      const int i = now[c.pairs[q][0]], j = now[c.pairs[q][1]];
       double apart = -std::numeric_limits<double>::infinity();
-      check(i, j, &apart);
+      if (i >= 0 && j >= 0) check(i, j, &apart);  // (else not measured in this pass: no bound kept)
       c.slack[q] = apart;
     }
     std::sort(out.begin(), out.end(), byIndex);

@@ -180,12 +180,16 @@ struct PairCandidates {
     double spread;  // the farthest of them from that
     double drift;   // the farthest of them
   };
-  struct Reach {    // per element, a pass's scratch:
-    Motion motion;  // its motion since the last pass
-    double radius;  // [m]
-    double sweep;   // [m] (ElementRef::sweep)
+  struct Reaches {                      // per element, a pass's scratch, one array per quantity:
+    std::vector<double> x, y, z;        // its motion since the last pass: Motion::shift [m]
+    std::vector<double> spread, drift;  // and Motion's others [m]
+    std::vector<double> radius, sweep;  // its radius, and ElementRef::sweep [m]
+    void resize(size_t n) {
+      for (auto* v : {&x, &y, &z, &spread, &drift, &radius, &sweep}) v->resize(n);
+    }
   };
-  std::vector<Reach> reach_of;
+  Reaches reaches;
+  std::vector<int> unsure;  // a pass's scratch: the candidates it checks
   int builds{0}, reuses{0};
   long kept_apart{0};  // candidates a pass skipped on their slack
   long carried{0};     // of those, at a build, on the slack of the list it replaced
