@@ -179,8 +179,12 @@ PairCandidates::Motion motionOf(const std::array<Vec3, 4>& then, const std::arra
 /// drifts, or, where less, their shifts' difference and both spreads (the
 /// turns of a packed coil move together, each a few tens of micrometres a
 /// step, and their distances change by micrometres).
+double relativeMotion(double drift_a, double drift_b, double shift_gap, double spread_a,
+                      double spread_b) {
+  return std::min(drift_a + drift_b, shift_gap + spread_a + spread_b);
+}
 double relativeMotion(const PairCandidates::Motion& a, const PairCandidates::Motion& b) {
-  return std::min(a.drift + b.drift, (a.shift - b.shift).norm() + a.spread + b.spread);
+  return relativeMotion(a.drift, b.drift, (a.shift - b.shift).norm(), a.spread, b.spread);
 }
 
 /// The lower bounds of the axes' distances (PairCandidates::slack) of the
@@ -513,8 +517,7 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
       r.radius[k] = el.point.radius, r.sweep[k] = el.sweep;
       c.control[k] = at;
     }
-    // Two passes over the candidates: every bound first, without a branch
-    // (relativeMotion and keptApart, the same numbers: a tight loop that
+    // Two passes over the candidates: every bound first (a tight loop that
     // the checks' code does not interrupt), then the checks of those it
     // leaves within reach.
     const size_t count = c.pairs.size();
@@ -526,12 +529,11 @@ std::vector<Pair> findPairs(const std::vector<DeviceModel>& devices,
     for (size_t q = 0; q < count; ++q) {
       const int k = c.pairs[q][0], l = c.pairs[q][1];
       const double dx = r.x[k] - r.x[l], dy = r.y[k] - r.y[l], dz = r.z[k] - r.z[l];
-      const double moved =
-          std::min(r.drift[k] + r.drift[l],
-                   std::sqrt(dx * dx + dy * dy + dz * dz) + r.spread[k] + r.spread[l]);
-      const double bound = c.slack[q] - moved;
-      const bool apart = bound >= r.radius[k] + r.radius[l] + margin &&
-                         (!swept_test || r.sweep[k] + r.sweep[l] < bound);
+      const double bound = c.slack[q] - relativeMotion(r.drift[k], r.drift[l],
+                                                       std::sqrt(dx * dx + dy * dy + dz * dz),
+                                                       r.spread[k], r.spread[l]);
+      const bool apart =
+          keptApart(bound, r.radius[k] + r.radius[l], margin, swept_test, r.sweep[k] + r.sweep[l]);
       c.slack[q] = apart ? bound : c.slack[q];
       kept += apart;
       unsure[unsure_count] = static_cast<int>(q);
