@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs every Debian package endovascular_sim needs (idempotent, as root).
-# Usage: scripts/setup.sh            # packages only
+# Installs every Debian package endovascular_sim needs (idempotent, as root),
+# then the Python packages Debian lacks (requirements.txt, pinned) into the
+# project's virtual environment build/venv (scripts/python.sh runs it).
+# Usage: scripts/setup.sh
 set -euo pipefail
 
 packages=(
@@ -35,6 +37,10 @@ packages=(
   rviz xvfb xauth libgl1-mesa-dri imagemagick
   # plots and pictures
   python3-matplotlib python3-numpy
+  # the Python front: pybind11 and the module's build, its tests, and what
+  # Gymnasium and Stable-Baselines3 need from Debian (requirements.txt: the rest)
+  pybind11-dev python3-dev python3-venv python3-pytest python3-yaml
+  python3-torch python3-pandas python3-cloudpickle python3-typing-extensions
   # independent LCP oracle for the contact tests
   libsiconos-numerics-dev
 )
@@ -50,4 +56,23 @@ if [ "${#missing[@]}" -gt 0 ]; then
   apt-get install -y -qq --no-install-recommends "${missing[@]}"
 else
   echo "setup: all ${#packages[@]} Debian packages present"
+fi
+
+# The virtual environment: Debian's Python with Debian's packages visible,
+# and the pinned PyPI packages of requirements.txt.
+repo=$(cd "$(dirname "$0")/.." && pwd)
+venv="$repo/build/venv"
+if [ ! -x "$venv/bin/python" ]; then
+  echo "setup: creating the virtual environment $venv"
+  mkdir -p "$repo/build"
+  /usr/bin/python3 -m venv --system-site-packages "$venv"
+fi
+wanted=$(grep -vE '^\s*(#|$)' "$repo/requirements.txt" | sort)
+have=$("$venv/bin/python" -m pip freeze --local 2>/dev/null | sort)
+if [ -n "$(comm -23 <(echo "$wanted") <(echo "$have"))" ]; then
+  echo "setup: installing the pinned Python packages of requirements.txt"
+  "$venv/bin/python" -m pip install -q --disable-pip-version-check --no-deps \
+    -r "$repo/requirements.txt"
+else
+  echo "setup: the pinned Python packages are present"
 fi

@@ -8,7 +8,7 @@
 #include "commands.h"
 #include "endovascular_sim/sim/autopilot.h"
 #include "output_paths.h"
-#include "step_json.h"
+#include "endovascular_sim/sim/step_json.h"
 
 namespace evsim {
 

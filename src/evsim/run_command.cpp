@@ -11,7 +11,7 @@
 #include "endovascular_sim/sim/state_file.h"
 #include "output_paths.h"
 #include "scene_source.h"
-#include "step_json.h"
+#include "endovascular_sim/sim/step_json.h"
 #include "vtk_output.h"
 
 namespace evsim {

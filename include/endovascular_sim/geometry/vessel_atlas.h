@@ -63,6 +63,10 @@ class VesselAtlas {
   /// ancestor, then down; empty when they are not connected.
   std::vector<int> path(int from, int to) const;
 
+  /// Path length [m] from `depth` along the first vessel of `path` to
+  /// `target_depth` inside its last: along each vessel to the next junction.
+  double pathLength(const std::vector<int>& path, double depth, double target_depth) const;
+
   /// Position [m] and unit direction (away from the origin) on a vessel's
   /// centreline at depth s [m] (clamped to [0, length]).
   Vec3 pointAt(int vessel, double s, Vec3* direction = nullptr) const;

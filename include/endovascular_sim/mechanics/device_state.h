@@ -24,6 +24,10 @@ struct DeviceState {
 DeviceState restState(const DeviceModel& model, const Mat3& R = Mat3::Identity(),
                       const Vec3& t = Vec3::Zero());
 
+/// Copies `from` into *to, into to's own node arrays where their sizes
+/// match (a view of them, as the Python front's arrays are, stays valid).
+void copyState(const DeviceState& from, DeviceState* to);
+
 /// Kinetic energy [J] (translational and rotational).
 double kineticEnergy(const DeviceModel& model, const DeviceState& state);
 

@@ -126,6 +126,10 @@ const std::vector<std::string>& knownEffects();
 /// LoadError naming the file, the line and the field.
 SceneSpec loadSceneFile(const std::string& path);
 
+/// loadSceneFile of a scene given as YAML text; `path` stands for its file:
+/// its folder resolves the relative paths in it, its name is in every error.
+SceneSpec loadSceneText(const std::string& text, const std::string& path);
+
 /// Why a scene (possibly changed after loading: `evsim bench --elements`,
 /// the accuracy sweep) is beyond the limits it states: a time step outside
 /// (0, 0.04] s, or a device with elements longer than its

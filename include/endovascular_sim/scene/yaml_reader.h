@@ -14,8 +14,12 @@ namespace evsim {
 class YamlReader {
  public:
   explicit YamlReader(std::string file) : file_(std::move(file)) {}
+  /// Reads `text` in place of the file's contents (errors still name `file`).
+  YamlReader(std::string file, std::string text)
+      : file_(std::move(file)), text_(std::move(text)), from_text_(true) {}
 
-  /// Parses the file (throws LoadError when it cannot be read or is not YAML).
+  /// Parses the file, or the text (throws LoadError when it cannot be read
+  /// or is not YAML).
   YAML::Node load() const;
 
   [[noreturn]] void fail(const YAML::Node& node, const std::string& field,
@@ -45,6 +49,8 @@ class YamlReader {
 
  private:
   std::string file_;
+  std::string text_;
+  bool from_text_{false};
 };
 
 }  // namespace evsim

@@ -196,6 +196,10 @@ void measureForces(const SceneModel& model, SimData* data);
 /// does it after every step; call it after changing the state by hand).
 void locateTips(const SceneModel& model, SimData* data);
 
+/// The largest contact force [N] on the vessel wall (not a device's lumen,
+/// not another device) of the last step.
+double maxWallForce(const SimData& data);
+
 /// Advances the simulation by model.time_step. On failure the previous state
 /// is kept and data->last_error says why; no NaN ever reaches the state.
 StepStatus step(const SceneModel& model, SimData* data);

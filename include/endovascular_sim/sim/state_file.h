@@ -19,6 +19,7 @@
 // The contacts are the last step's (the next step's warm start). Only the
 // state is saved: the scene comes from its own file, and must be the one
 // the state was saved from (its name, devices and node counts are checked).
+// Loading copies into the data's own node arrays (views of them stay valid).
 #pragma once
 
 #include <string>
@@ -30,9 +31,16 @@ namespace evsim {
 /// Writes the state of `data` (false when the file cannot be written).
 bool saveState(const SceneModel& model, const SimData& data, const std::string& path);
 
+/// The text saveState writes (a pickled simulation carries it).
+std::string stateText(const SceneModel& model, const SimData& data);
+
 /// Reads a state saved for `model` into `data`. Throws LoadError naming the
 /// file, line and field when it cannot be read, is malformed, non-finite, or
 /// belongs to another scene; `data` is then unchanged.
 void loadState(const SceneModel& model, const std::string& path, SimData* data);
+
+/// loadState from the text of a state file; errors name `source` as the file.
+void loadStateText(const SceneModel& model, const std::string& text, const std::string& source,
+                   SimData* data);
 
 }  // namespace evsim

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/core/types.h"
 
 namespace evsim {
@@ -163,7 +164,7 @@ class ActiveCholesky {
     MatX entries;  // W(set[i], set[j]), i >= j, where they were factorised
   };
   static FactorStore& factorStore(Eigen::Index c) {
-    thread_local FactorStore store;
+    FactorStore& store = threadCache<FactorStore>();
     if (store.L.rows() < c) {
       const Eigen::Index grown = std::max(c, store.L.rows() + store.L.rows() / 4);
       store.L.conservativeResize(grown, grown);

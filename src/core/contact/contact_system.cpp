@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "activation_loop.h"
+#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/contact/wall_curvature.h"
 #include "endovascular_sim/mechanics/elasticity.h"
 
@@ -392,7 +393,7 @@ void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopS
   if (o.friction) sys->tangents.resize(sys->c);
   // The rows' parts per device; their storage is kept from loop to loop
   // (per thread, as the loops of one step run on one).
-  thread_local std::vector<std::vector<RowPart>> parts;
+  std::vector<std::vector<RowPart>>& parts = threadCache<std::vector<std::vector<RowPart>>>();
   parts.resize(std::max(parts.size(), nd));
   for (size_t d = 0; d < nd; ++d) {
     parts[d].clear();

@@ -1,5 +1,6 @@
 // The Delassus operator W = H A^-1 H^T of one device, without forming A^-1.
 // Declared and documented in endovascular_sim/contact/delassus.h.
+#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/contact/delassus.h"
 
 #include <algorithm>
@@ -116,8 +117,7 @@ struct UpdateScratch {
 };
 
 UpdateScratch& updateScratch() {
-  thread_local UpdateScratch scratch;
-  return scratch;
+  return threadCache<UpdateScratch>();
 }
 
 /// At least `cols` columns (`rows` rows) in a buffer that only grows.

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "device_pairs.h"
+#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/contact/coaxial.h"
 
 namespace evsim::activation {
@@ -210,8 +211,7 @@ std::vector<ElementRef> pairElements(const ContactProblem& pb, const std::vector
 /// point of the pass was there with its radius and moved less than the skin
 /// since (findPointPairs): the pairs found are those of a full search.
 pairs::PointCandidates& keptPointCandidates() {
-  thread_local pairs::PointCandidates kept;
-  return kept;
+  return threadCache<pairs::PointCandidates>();
 }
 
 /// The element pairs' candidates, kept the same way: used only where every
@@ -219,8 +219,7 @@ pairs::PointCandidates& keptPointCandidates() {
 /// within its box there grown by the skin (findPairs): the pairs found are
 /// those of a full search.
 pairs::PairCandidates& keptElementCandidates() {
-  thread_local pairs::PairCandidates kept;
-  return kept;
+  return threadCache<pairs::PairCandidates>();
 }
 
 }  // namespace

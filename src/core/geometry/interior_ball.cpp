@@ -1,6 +1,7 @@
 // Certified interior balls (geometry/interior_ball.h): the ball radius from
 // g, |grad g| and a Hessian bound, used by contact detection to skip field
 // evaluations of points that stay in their ball.
+#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/geometry/interior_ball.h"
 
 #include <algorithm>
@@ -45,10 +46,11 @@ Ball followBall(InteriorBall* kept, const ImplicitSurface& surface, const Motion
   if (ball.regions != static_cast<int>(motion.size()) || !ball.follows) return Ball{};
   if (std::equal(motion.begin(), motion.end(), ball.motion.begin())) return as_certified;
   // The balls certified at one snapshot share kappa: kept for the last one.
-  thread_local struct {
+  struct LastKappa {
     MotionSnapshot then, now;
     double kappa{0.0};
-  } last;
+  };
+  LastKappa& last = threadCache<LastKappa>();
   if (last.now != motion || !std::equal(last.then.begin(), last.then.end(), ball.motion.begin()) ||
       static_cast<int>(last.then.size()) != ball.regions) {
     last.then.assign(ball.motion.begin(), ball.motion.begin() + ball.regions);

@@ -225,4 +225,20 @@ Vec3 VesselAtlas::pointAt(int vessel, double s, Vec3* direction) const {
   return a + t * d;
 }
 
+double VesselAtlas::pathLength(const std::vector<int>& path, double depth,
+                               double target_depth) const {
+  double remaining = 0.0, s = depth;
+  for (size_t i = 0; i + 1 < path.size(); ++i) {
+    const NamedVessel& next = vessels_[path[i + 1]];
+    if (next.parent == path[i]) {  // down into a branch
+      remaining += std::abs(s - next.origin_depth);
+      s = 0.0;
+    } else {  // up into the parent
+      remaining += s;
+      s = vessels_[path[i]].origin_depth;
+    }
+  }
+  return remaining + std::max(0.0, target_depth - s);
+}
+
 }  // namespace evsim

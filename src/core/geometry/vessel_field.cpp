@@ -1,6 +1,7 @@
 // The implicit vessel surface: a convolution field of centreline segments (and
 // aneurysm spheres), indexed by a uniform grid over their supports. Declared
 // and documented in endovascular_sim/geometry/vessel_field.h.
+#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/geometry/vessel_field.h"
 
 #include <algorithm>
@@ -107,7 +108,7 @@ struct VesselField::MovedCache {
 VesselField::MovedCache& VesselField::movedCache(const MotionSnapshot& motion) const {
   // Per thread, so that the model stays shareable between threads stepping
   // their own data.
-  thread_local MovedCache cache;
+  MovedCache& cache = threadCache<MovedCache>();
   if (cache.field != serial_ || cache.motion != motion) {
     cache.field = serial_;
     cache.motion = motion;
@@ -179,7 +180,7 @@ bool VesselField::motionSensitivity(const Vec3& c, double half_width, double dev
   struct Entry {
     double half_width{-1.0}, a{0.0}, b{0.0};
   };
-  thread_local struct {
+  struct HessianCache {
     long field{-1};
     std::vector<std::pair<double, std::unordered_map<long, Entry>>> per_radius;
     std::vector<int> ids;
@@ -194,7 +195,8 @@ bool VesselField::motionSensitivity(const Vec3& c, double half_width, double dev
       Entry* entry{nullptr};  // (a map's entries stay where they are)
     };
     std::array<Recent, 1024> recent;
-  } cache;
+  };
+  HessianCache& cache = threadCache<HessianCache>();
   if (cache.field != serial_) {
     cache.field = serial_;
     cache.per_radius.clear();

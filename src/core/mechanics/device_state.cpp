@@ -2,7 +2,32 @@
 // documented in endovascular_sim/mechanics/device_state.h.
 #include "endovascular_sim/mechanics/device_state.h"
 
+#include <algorithm>
+
 namespace evsim {
+
+namespace {
+
+template <typename T>
+void copyInto(const std::vector<T>& from, std::vector<T>* to) {
+  if (to->size() == from.size())
+    std::copy(from.begin(), from.end(), to->begin());
+  else
+    *to = from;
+}
+
+}  // namespace
+
+void copyState(const DeviceState& from, DeviceState* to) {
+  copyInto(from.position, &to->position);
+  copyInto(from.rotation, &to->rotation);
+  copyInto(from.velocity, &to->velocity);
+  copyInto(from.angular_velocity, &to->angular_velocity);
+  to->inserted_length = from.inserted_length;
+  to->rotation_angle = from.rotation_angle;
+  to->released = from.released;
+  to->cut_element = from.cut_element;
+}
 
 DeviceState restState(const DeviceModel& model, const Mat3& R, const Vec3& t) {
   DeviceState s;

@@ -444,8 +444,8 @@ void readDevices(const YamlReader& r, const YAML::Node& root, const fs::path& sc
     r.fail(root["effects"], "effects", "'coaxial' needs a device with 'inside: OUTER'");
 }
 
-SceneSpec readSceneFile(const std::string& path) {
-  const YamlReader r(path);
+SceneSpec readScene(const YamlReader& r) {
+  const std::string& path = r.file();
   const YAML::Node root = r.load();
   // The schema first: types, ranges, unknown, duplicate and missing keys.
   std::vector<LoadError> problems;
@@ -513,12 +513,22 @@ std::vector<SchemaProblem> checkSceneFileSchema(const std::string& path) {
   return checkSceneSchema(YamlReader(path).load());
 }
 
-SceneSpec loadSceneFile(const std::string& path) {
+namespace {
+
+SceneSpec readSceneCatching(const YamlReader& r) {
   try {
-    return readSceneFile(path);
+    return readScene(r);
   } catch (const YAML::Exception& e) {  // a type yaml-cpp could not convert: never an abort
-    throw LoadError(path, e.mark.is_null() ? 0 : e.mark.line + 1, "", e.msg);
+    throw LoadError(r.file(), e.mark.is_null() ? 0 : e.mark.line + 1, "", e.msg);
   }
+}
+
+}  // namespace
+
+SceneSpec loadSceneFile(const std::string& path) { return readSceneCatching(YamlReader(path)); }
+
+SceneSpec loadSceneText(const std::string& text, const std::string& path) {
+  return readSceneCatching(YamlReader(path, text));
 }
 
 namespace {

@@ -15,10 +15,13 @@
 namespace evsim {
 
 YAML::Node YamlReader::load() const {
-  std::ifstream in(file_);
-  if (!in) throw LoadError(file_, 0, "", "cannot open the file");
+  std::ifstream in;
+  if (!from_text_) {
+    in.open(file_);
+    if (!in) throw LoadError(file_, 0, "", "cannot open the file");
+  }
   try {
-    return YAML::Load(in);
+    return from_text_ ? YAML::Load(text_) : YAML::Load(in);
   } catch (const YAML::ParserException& e) {
     throw LoadError(file_, e.mark.line + 1, "", "malformed YAML: " + e.msg);
   }

@@ -39,24 +39,6 @@ int nodeBehindTip(const DeviceModel& m, double back) {
   return i;
 }
 
-/// Path length [m] from a tip `depth` along the first vessel of `path` to
-/// `target_depth` inside its last: along each vessel to the next junction.
-double pathLeft(const VesselAtlas& atlas, const std::vector<int>& path, double depth,
-                double target_depth) {
-  double remaining = 0.0, s = depth;
-  for (size_t i = 0; i + 1 < path.size(); ++i) {
-    const NamedVessel& next = atlas.vessels()[path[i + 1]];
-    if (next.parent == path[i]) {  // down into a branch
-      remaining += std::abs(s - next.origin_depth);
-      s = 0.0;
-    } else {  // up into the parent
-      remaining += s;
-      s = atlas.vessels()[path[i]].origin_depth;
-    }
-  }
-  return remaining + std::max(0.0, target_depth - s);
-}
-
 }  // namespace
 
 double shapedLength(const DeviceModel& m) {
@@ -119,7 +101,7 @@ Autopilot::Autopilot(const SceneModel& model, const SimData& data, const std::st
   // feedback may come before the first step.
   goal_depth_ = requiredDepth(atlas.vessels()[target_], options_.depth);
   report_.remaining_path =
-      pathLeft(atlas, atlas.path(entry_vessel_, target_), data.tips.at(lead_).depth, goal_depth_);
+      atlas.pathLength(atlas.path(entry_vessel_, target_), data.tips.at(lead_).depth, goal_depth_);
 }
 
 std::string Autopilot::setPhase(AutopilotPhase phase, const std::string& why, double t) {
@@ -298,7 +280,7 @@ std::string Autopilot::control(const SceneModel& model, SimData* data) {
   const std::vector<int> path = atlas.path(at.vessel, target_);
   const std::vector<int> plan = atlas.path(entry_vessel_, target_);
 
-  const double remaining = pathLeft(atlas, path, at.depth, goal_depth_);
+  const double remaining = atlas.pathLength(path, at.depth, goal_depth_);
   report_.remaining_path = remaining;
   report_.time = t - start_time_;
   if (remaining < best_remaining_ - 0.002) {
@@ -386,9 +368,7 @@ std::string Autopilot::steerLead(const SceneModel& model, SimData* data,
 
 void Autopilot::observe(const SimData& data, bool step_failed) {
   if (step_failed) ++report_.failed_steps;
-  for (const Contact& c : data.contacts)
-    if (c.other_device < 0 && !c.lumen)  // the vessel wall, not a device's lumen
-      report_.peak_wall_force = std::max(report_.peak_wall_force, c.force);
+  report_.peak_wall_force = std::max(report_.peak_wall_force, maxWallForce(data));
 }
 
 }  // namespace evsim

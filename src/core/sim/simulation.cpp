@@ -1,6 +1,7 @@
 // The simulation: an immutable SceneModel built once per scene, the SimData
 // workspace it steps, and step() — the pipeline of the paper. Declared and
 // documented in endovascular_sim/sim/simulation.h.
+#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/sim/simulation.h"
 
 #include <algorithm>
@@ -110,7 +111,7 @@ struct StepBuffers {
   std::vector<DeviceState> next, moved;
 };
 StepBuffers& stepBuffers(int depth) {
-  thread_local std::deque<StepBuffers> buffers;
+  std::deque<StepBuffers>& buffers = threadCache<std::deque<StepBuffers>>();
   while (static_cast<int>(buffers.size()) <= depth) buffers.emplace_back();
   return buffers[depth];
 }
@@ -200,7 +201,9 @@ StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth)
   std::vector<DeviceState>& next = buffers.next;
   const StepStatus status = subStep(model, data, dt, &next, &buffers.moved);
   if (status == StepStatus::kOk) {
-    data->devices.swap(next);
+    // Copied, not swapped: the data's node arrays keep their storage (the
+    // Python front's arrays view them).
+    for (size_t i = 0; i < next.size(); ++i) copyState(next[i], &data->devices[i]);
     data->time += dt;
     return status;
   }
@@ -214,7 +217,7 @@ StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth)
   for (int half = 0; half < 2; ++half) {
     const StepStatus s = advance(model, data, 0.5 * dt, depth + 1);
     if (s != StepStatus::kOk) {
-      data->devices = saved;
+      for (size_t i = 0; i < saved.size(); ++i) copyState(saved[i], &data->devices[i]);
       data->time = saved_time;
       return s;
     }
@@ -497,6 +500,13 @@ std::string setCommand(const SceneModel& model, SimData* data, const std::string
 void applyCommand(SimData* data, int device, const DriveCommand& command) {
   if (!sameCommand(data->commands[device], command)) wake(data);
   data->commands[device] = command;
+}
+
+double maxWallForce(const SimData& data) {
+  double f = 0.0;
+  for (const Contact& c : data.contacts)
+    if (c.other_device < 0 && !c.lumen) f = std::max(f, c.force);
+  return f;
 }
 
 StepStatus step(const SceneModel& model, SimData* data) {

@@ -25,9 +25,8 @@ constexpr int kVersion = 3;  // 1: without the sleep fields of `clock` (read as 
 /// structure (a missing or unexpected record, a count) stops at once.
 class Reader {
  public:
-  explicit Reader(const std::string& path) : path_(path), in_(path) {
-    if (!in_) throw LoadError(path, 0, "", "cannot open the state file");
-  }
+  /// Reads `in`; errors name `path` (the file, or what stands for the text).
+  Reader(const std::string& path, std::istream& in) : path_(path), in_(in) {}
 
   /// The next line, which must start with `key`.
   void record(const std::string& key) {
@@ -95,56 +94,76 @@ class Reader {
 
  private:
   std::string path_;
-  std::ifstream in_;
+  std::istream& in_;
   std::istringstream fields_;
   int line_{0};
   std::vector<LoadError> problems_;
 };
 
-void writeVec3(std::FILE* f, const Vec3& v) {
-  std::fprintf(f, " %.17g %.17g %.17g", v.x(), v.y(), v.z());
+/// Appends printf-formatted text to *out.
+template <typename... Args>
+void appendf(std::string* out, const char* format, Args... args) {
+  char buf[256];
+  const int n = std::snprintf(buf, sizeof(buf), format, args...);
+  if (n > 0 && n < static_cast<int>(sizeof(buf))) {
+    out->append(buf, static_cast<size_t>(n));
+    return;
+  }
+  std::string big(static_cast<size_t>(std::max(n, 0)) + 1, '\0');
+  std::snprintf(big.data(), big.size(), format, args...);
+  out->append(big.c_str());
+}
+
+void appendVec3(std::string* out, const Vec3& v) {
+  appendf(out, " %.17g %.17g %.17g", v.x(), v.y(), v.z());
 }
 
 }  // namespace
 
-bool saveState(const SceneModel& model, const SimData& data, const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) return false;
-  std::fprintf(f, "evsim_state %d\nscene %s\nclock %.17g %ld %zu %d %d\n", kVersion,
-               model.name.c_str(), data.time, data.step, data.next_script_entry, data.resting_steps,
-               data.asleep ? 1 : 0);
+std::string stateText(const SceneModel& model, const SimData& data) {
+  std::string f;
+  appendf(&f, "evsim_state %d\nscene %s\nclock %.17g %ld %zu %d %d\n", kVersion,
+          model.name.c_str(), data.time, data.step, data.next_script_entry, data.resting_steps,
+          data.asleep ? 1 : 0);
   for (size_t d = 0; d < data.devices.size(); ++d) {
     const DeviceState& s = data.devices[d];
-    std::fprintf(f, "device %s %zu %.17g %.17g %d %d\n", model.devices[d].name.c_str(),
-                 s.position.size(), s.inserted_length, s.rotation_angle, s.released ? 1 : 0,
-                 s.cut_element);
+    appendf(&f, "device %s %zu %.17g %.17g %d %d\n", model.devices[d].name.c_str(),
+            s.position.size(), s.inserted_length, s.rotation_angle, s.released ? 1 : 0,
+            s.cut_element);
     for (size_t i = 0; i < s.position.size(); ++i) {
-      std::fputs("node", f);
-      writeVec3(f, s.position[i]);
+      f += "node";
+      appendVec3(&f, s.position[i]);
       const Quat& q = s.rotation[i];
-      std::fprintf(f, " %.17g %.17g %.17g %.17g", q.w(), q.x(), q.y(), q.z());
-      writeVec3(f, s.velocity[i]);
-      writeVec3(f, s.angular_velocity[i]);
-      std::fputc('\n', f);
+      appendf(&f, " %.17g %.17g %.17g %.17g", q.w(), q.x(), q.y(), q.z());
+      appendVec3(&f, s.velocity[i]);
+      appendVec3(&f, s.angular_velocity[i]);
+      f += '\n';
     }
   }
   for (const DriveCommand& c : data.commands)
-    std::fprintf(f, "command %d %.17g %.17g\n", c.mode == DriveCommand::Mode::kPosition ? 1 : 0,
-                 c.insertion, c.rotation);
-  std::fprintf(f, "contacts %zu\n", data.contacts.size());
+    appendf(&f, "command %d %.17g %.17g\n", c.mode == DriveCommand::Mode::kPosition ? 1 : 0,
+            c.insertion, c.rotation);
+  appendf(&f, "contacts %zu\n", data.contacts.size());
   for (const Contact& c : data.contacts) {
-    std::fprintf(f, "contact %d %d", c.device, c.sample);
-    writeVec3(f, c.point);
-    writeVec3(f, c.normal);
-    std::fprintf(f, " %.17g %.17g %d %d", c.gap, c.force, c.other_device, c.other_sample);
-    writeVec3(f, c.friction);
-    std::fprintf(f, " %d %.17g %.17g %.17g %.17g %d", c.other.element, c.other.xi, c.other.radius,
-                 c.other.friction, c.separation, c.lumen ? 1 : 0);
-    std::fprintf(f, " %d %.17g %.17g %.17g\n", c.self.element, c.self.xi, c.self.radius,
-                 c.self.friction);
+    appendf(&f, "contact %d %d", c.device, c.sample);
+    appendVec3(&f, c.point);
+    appendVec3(&f, c.normal);
+    appendf(&f, " %.17g %.17g %d %d", c.gap, c.force, c.other_device, c.other_sample);
+    appendVec3(&f, c.friction);
+    appendf(&f, " %d %.17g %.17g %.17g %.17g %d", c.other.element, c.other.xi, c.other.radius,
+            c.other.friction, c.separation, c.lumen ? 1 : 0);
+    appendf(&f, " %d %.17g %.17g %.17g\n", c.self.element, c.self.xi, c.self.radius,
+            c.self.friction);
   }
-  const bool ok = !std::ferror(f);
-  return std::fclose(f) == 0 && ok;
+  return f;
+}
+
+bool saveState(const SceneModel& model, const SimData& data, const std::string& path) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) return false;
+  out << stateText(model, data);
+  out.close();
+  return static_cast<bool>(out);
 }
 
 namespace {
@@ -268,10 +287,10 @@ std::vector<Contact> readContacts(const SceneModel& model, long version, Reader*
   return contacts;
 }
 
-}  // namespace
-
-void loadState(const SceneModel& model, const std::string& path, SimData* data) {
-  Reader r(path);
+/// Reads a state from `in` (errors name `path`) into `data`, unchanged on error.
+void readState(const SceneModel& model, const std::string& path, std::istream& in,
+               SimData* data) {
+  Reader r(path, in);
   LoadedState next;
   next.devices = data->devices;
   next.commands = data->commands;
@@ -288,8 +307,10 @@ void loadState(const SceneModel& model, const std::string& path, SimData* data) 
   for (int d = 0; d < nd; ++d) readCommand(model, d, &r, &next.commands[d]);
   next.contacts = readContacts(model, version, &r);
   r.finish();  // every wrong value, before anything of the data changes
-  data->devices.swap(next.devices);
-  data->commands.swap(next.commands);
+  // Copied into the data's own buffers: views of them (the Python front's
+  // arrays) stay valid.
+  for (size_t d = 0; d < next.devices.size(); ++d) copyState(next.devices[d], &data->devices[d]);
+  data->commands = next.commands;
   data->contacts.swap(next.contacts);
   data->time = next.time;
   data->step = next.step;
@@ -299,6 +320,20 @@ void loadState(const SceneModel& model, const std::string& path, SimData* data) 
   data->targets.clear();  // progress is not saved: it restarts at the loaded state
   locateTips(model, data);
   measureForces(model, data);
+}
+
+}  // namespace
+
+void loadState(const SceneModel& model, const std::string& path, SimData* data) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw LoadError(path, 0, "", "cannot open the state file");
+  readState(model, path, in, data);
+}
+
+void loadStateText(const SceneModel& model, const std::string& text, const std::string& source,
+                   SimData* data) {
+  std::istringstream in(text);
+  readState(model, source, in, data);
 }
 
 }  // namespace evsim

@@ -1,4 +1,5 @@
-// One JSON object per simulation step, for `evsim run --json`.
+// One JSON object per simulation step: `evsim run --json`, and the Python
+// front's step statistics (the same names and units).
 #pragma once
 
 #include <string>

@@ -1,6 +1,6 @@
-// One JSON object per simulation step, for `evsim run --json`. Declared and
-// documented in step_json.h.
-#include "step_json.h"
+// One JSON object per simulation step. Declared and documented in
+// endovascular_sim/sim/step_json.h.
+#include "endovascular_sim/sim/step_json.h"
 
 #include <cstdio>
 #include <sstream>

@@ -1,0 +1,22 @@
+"""Registers the Gymnasium ids (``gymnasium.make("endovascular_sim/...")``)."""
+import gymnasium
+
+CONTROL_INTERVAL_FLUOROSCOPY = 1.0 / 7.5  # [s] a fluoroscopy frame, as stEVE steps
+
+ENVIRONMENTS = {
+    "endovascular_sim/ArchNavigation-v0": dict(scene="arch_navigation"),
+    "endovascular_sim/NetworkNavigation-v0": dict(scene="network_navigation"),
+    "endovascular_sim/Navigation-v0": dict(),  # any scene file: gymnasium.make(id, scene=PATH)
+}
+
+
+def register_environments():
+    for env_id, kwargs in ENVIRONMENTS.items():
+        if env_id in gymnasium.registry:
+            continue
+        gymnasium.register(
+            id=env_id,
+            entry_point="endovascular_sim.envs.navigation:NavigationEnv",
+            vector_entry_point="endovascular_sim.envs.vector:NavigationVectorEnv",
+            kwargs=kwargs,
+        )

@@ -1,0 +1,154 @@
+// A batch of simulations stepped by a pool of threads. Declared and
+// documented in endovascular_sim/sim/rollout.h.
+#include "endovascular_sim/sim/rollout.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+namespace evsim {
+
+namespace {
+
+int totalNodes(const SceneModel& model) {
+  int n = 0;
+  for (const DeviceModel& d : model.devices) n += d.num_nodes;
+  return n;
+}
+
+/// Records simulation n's state after command t.
+void record(const SceneModel& model, const SimData& data, long n, long t, bool failed,
+            RolloutOutput* out) {
+  const long nt = n * out->horizon + t;
+  const int nd = out->devices;
+  out->time[nt] = data.time;
+  out->failed[nt] = failed ? 1 : 0;
+  out->max_wall_force[nt] = maxWallForce(data);
+  double* node = &out->node_position[static_cast<size_t>(nt) * out->nodes * 3];
+  for (int d = 0; d < nd; ++d) {
+    const DeviceState& s = data.devices[d];
+    for (const Vec3& x : s.position) {
+      node[0] = x.x(), node[1] = x.y(), node[2] = x.z();
+      node += 3;
+    }
+    const size_t k = static_cast<size_t>(nt) * nd + d;
+    const Vec3& tip = s.position.back();
+    for (int c = 0; c < 3; ++c) out->tip_position[k * 3 + c] = tip(c);
+    out->inserted_length[k] = s.inserted_length;
+    out->rotation_angle[k] = s.rotation_angle;
+    out->drive_force[k] = d < static_cast<int>(data.drives.size()) ? data.drives[d].axial_force : 0.0;
+    out->tip_vessel[k] = model.atlas && d < static_cast<int>(data.tips.size()) ? data.tips[d].vessel : -1;
+  }
+}
+
+/// Steps simulation n through its T commands.
+void rollOne(const SceneModel& model, SimData* data, const double* commands, long n,
+             long steps_per_command, bool recover, RolloutOutput* out) {
+  const int nd = out->devices;
+  bool failed = false;
+  for (long t = 0; t < out->horizon; ++t) {
+    if (!failed) {
+      const double* c = commands + (n * out->horizon + t) * 2 * nd;
+      for (int d = 0; d < nd; ++d)
+        applyCommand(data, d, DriveCommand{DriveCommand::Mode::kVelocity, c[2 * d], c[2 * d + 1]});
+      for (long k = 0; k < steps_per_command && !failed; ++k) {
+        bool recovered = false;
+        const StepStatus status = recover ? stepOrRecover(model, data, &recovered)
+                                          : step(model, data);
+        failed = status != StepStatus::kOk;
+      }
+    }
+    record(model, *data, n, t, failed, out);
+  }
+}
+
+}  // namespace
+
+std::string checkRollout(const std::vector<const SceneModel*>& models,
+                         const std::vector<SimData*>& data, const double* commands, long horizon,
+                         long steps_per_command) {
+  std::ostringstream why;
+  if (models.size() != data.size() && models.size() != 1) {
+    why << models.size() << " models for " << data.size()
+        << " simulations: give one model, or one per simulation";
+    return why.str();
+  }
+  if (horizon < 0 || steps_per_command < 1) {
+    why << "the horizon (" << horizon << ") must not be negative and the steps per command ("
+        << steps_per_command << ") at least 1";
+    return why.str();
+  }
+  const SceneModel& first = *models.front();
+  for (size_t n = 0; n < data.size(); ++n) {
+    const SceneModel& m = *models[models.size() == 1 ? 0 : n];
+    if (m.devices.size() != first.devices.size()) {
+      why << "simulation " << n << " has " << m.devices.size() << " devices, simulation 0 "
+          << first.devices.size() << ": a batch's simulations drive as many devices";
+      return why.str();
+    }
+    if (data[n]->devices.size() != m.devices.size()) {
+      why << "simulation " << n << "'s data were not made for its model ('" << m.name << "')";
+      return why.str();
+    }
+    for (size_t d = 0; d < m.devices.size(); ++d)
+      if (static_cast<int>(data[n]->devices[d].position.size()) != m.devices[d].num_nodes) {
+        why << "simulation " << n << "'s data were not made for its model ('" << m.name << "')";
+        return why.str();
+      }
+    const int nd = static_cast<int>(m.devices.size());
+    for (long t = 0; t < horizon; ++t)
+      for (int d = 0; d < nd; ++d) {
+        const double* c = commands + (n * horizon + t) * 2 * nd + 2 * d;
+        const std::string bad =
+            validateDriveCommand({DriveCommand::Mode::kVelocity, c[0], c[1]}, m.devices[d]);
+        if (!bad.empty()) {
+          why << "commands[" << n << ", " << t << "] for device '" << m.devices[d].name
+              << "': " << bad;
+          return why.str();
+        }
+      }
+  }
+  return "";
+}
+
+RolloutOutput rollout(const std::vector<const SceneModel*>& models,
+                      const std::vector<SimData*>& data, const double* commands, long horizon,
+                      long steps_per_command, int threads, bool recover) {
+  if (models.empty() || data.empty()) return {};
+  const std::string why = checkRollout(models, data, commands, horizon, steps_per_command);
+  if (!why.empty()) throw std::invalid_argument(why);
+  RolloutOutput out;
+  out.batch = static_cast<long>(data.size());
+  out.horizon = horizon;
+  out.devices = static_cast<int>(models.front()->devices.size());
+  out.nodes = totalNodes(*models.front());
+  for (const SceneModel* m : models) out.nodes = std::max(out.nodes, totalNodes(*m));
+  const size_t nt = static_cast<size_t>(out.batch * horizon);
+  out.time.assign(nt, 0.0);
+  out.failed.assign(nt, 0);
+  out.max_wall_force.assign(nt, 0.0);
+  out.node_position.assign(nt * out.nodes * 3, std::nan(""));
+  out.tip_position.assign(nt * out.devices * 3, 0.0);
+  out.inserted_length.assign(nt * out.devices, 0.0);
+  out.rotation_angle.assign(nt * out.devices, 0.0);
+  out.drive_force.assign(nt * out.devices, 0.0);
+  out.tip_vessel.assign(nt * out.devices, -1);
+
+  std::atomic<long> next{0};
+  auto work = [&]() {
+    for (long n = next++; n < out.batch; n = next++)
+      rollOne(*models[models.size() == 1 ? 0 : n], data[n], commands, n, steps_per_command,
+              recover, &out);
+  };
+  const int pool = std::clamp(threads, 1, static_cast<int>(out.batch));
+  std::vector<std::thread> workers;
+  for (int k = 1; k < pool; ++k) workers.emplace_back(work);
+  work();
+  for (std::thread& w : workers) w.join();
+  return out;
+}
+
+}  // namespace evsim
