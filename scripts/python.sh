@@ -6,7 +6,7 @@
 #   bash scripts/python.sh -c 'import endovascular_sim'
 #   bash scripts/python.sh scripts/train_ppo.py --help
 set -euo pipefail
-repo=$(cd "$(dirname "$0")/.." && pwd)
+repo=$(cd "$(dirname "$(readlink -f "$0")")/.." && pwd)  # (through the workspace's links)
 venv="$repo/build/venv"
 ws="$repo/build/ws"
 if [ ! -x "$venv/bin/python" ]; then

@@ -67,8 +67,8 @@ if [ ! -x "$venv/bin/python" ]; then
   mkdir -p "$repo/build"
   /usr/bin/python3 -m venv --system-site-packages "$venv"
 fi
-wanted=$(grep -vE '^\s*(#|$)' "$repo/requirements.txt" | sort)
-have=$("$venv/bin/python" -m pip freeze --local 2>/dev/null | sort)
+wanted=$(grep -vE '^\s*(#|$)' "$repo/requirements.txt" | tr "A-Z_" "a-z-" | sort)
+have=$("$venv/bin/python" -m pip freeze --local 2>/dev/null | tr "A-Z_" "a-z-" | sort)
 if [ -n "$(comm -23 <(echo "$wanted") <(echo "$have"))" ]; then
   echo "setup: installing the pinned Python packages of requirements.txt"
   "$venv/bin/python" -m pip install -q --disable-pip-version-check --no-deps \

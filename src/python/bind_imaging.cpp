@@ -101,6 +101,24 @@ void bindImaging(py::module_& m) {
              }
            },
            py::arg("lao_deg"), py::arg("cranial_deg") = 0.0, "Turns the C-arm [deg]")
+      .def(
+          "project",
+          [](const PyXray& x, py::array_t<double, py::array::c_style | py::array::forcecast> points) {
+            if (points.ndim() != 2 || points.shape(1) != 3)
+              throw py::value_error("points must be an (n x 3) array [m]");
+            const XrayCamera& cam = x.renderer->camera();
+            py::array_t<double> uv({points.shape(0), py::ssize_t{2}});
+            auto in = points.unchecked<2>();
+            auto out = uv.mutable_unchecked<2>();
+            for (py::ssize_t i = 0; i < points.shape(0); ++i) {
+              const Vec3 q = cam.project(Vec3(in(i, 0), in(i, 1), in(i, 2)));
+              out(i, 0) = q.x();
+              out(i, 1) = q.y();
+            }
+            return uv;
+          },
+          py::arg("points"),
+          "Where points (n x 3) [m] fall on the detector: (n x 2) pixel coordinates (u, v)")
       .def_property_readonly("pixels", [](const PyXray& x) { return x.renderer->spec().c_arm.pixels; });
 }
 

@@ -165,6 +165,18 @@ void bindModel(py::module_& m) {
            },
            py::arg("name"), py::arg("depth"),
            "The point [m] on a vessel's centreline `depth` [m] past its origin")
+      .def("vessel_path",
+           [](const PyModel& p, const std::string& from, const std::string& to) {
+             const SceneModel& s = p.get();
+             const int a = s.atlas ? s.atlas->find(from) : -1, b = s.atlas ? s.atlas->find(to) : -1;
+             if (a < 0 || b < 0)
+               throw py::value_error("no vessel '" + (a < 0 ? from : to) + "' in scene '" + s.name + "'");
+             std::vector<std::string> names;
+             for (int v : s.atlas->path(a, b)) names.push_back(s.atlas->vessels()[v].name);
+             return names;
+           },
+           py::arg("from_vessel"), py::arg("to_vessel"),
+           "The vessels from one to another through the tree (empty: not connected)")
       .def_property_readonly("targets",
                              [](const PyModel& p) {
                                py::list out;

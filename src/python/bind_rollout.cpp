@@ -75,6 +75,7 @@ void bindRollout(py::module_& m) {
         r["inserted_length"] = arrayOf(out.inserted_length, {N, T, D});
         r["rotation_angle"] = arrayOf(out.rotation_angle, {N, T, D});
         r["drive_force"] = arrayOf(out.drive_force, {N, T, D});
+        r["peak_drive_force"] = arrayOf(out.peak_drive_force, {N, T, D});
         r["tip_vessel"] = arrayOf(out.tip_vessel, {N, T, D});
         r["max_wall_force"] = arrayOf(out.max_wall_force, {N, T});
         r["failed"] = arrayOf(out.failed, {N, T}).attr("astype")("bool");

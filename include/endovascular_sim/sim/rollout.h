@@ -26,9 +26,10 @@ struct RolloutOutput {
   std::vector<double> tip_position;     // (N x T x devices x 3) [m]
   std::vector<double> inserted_length;  // (N x T x devices) [m]
   std::vector<double> rotation_angle;   // (N x T x devices) [rad]
-  std::vector<double> drive_force;      // (N x T x devices) [N] axial, > 0 pushing in (resisted)
-  std::vector<int> tip_vessel;          // (N x T x devices) atlas index (-1: no vessels)
-  std::vector<double> max_wall_force;   // (N x T) [N] largest wall contact force of the last step
+  std::vector<double> drive_force;       // (N x T x devices) [N] axial, > 0 pushing in (resisted)
+  std::vector<double> peak_drive_force;  // (N x T x devices) [N] largest |drive_force| of its steps
+  std::vector<int> tip_vessel;           // (N x T x devices) atlas index (-1: no vessels)
+  std::vector<double> max_wall_force;    // (N x T) [N] largest wall contact force of its steps
   std::vector<std::int8_t> failed;      // (N x T) 1 from the command whose steps failed on
 };
 

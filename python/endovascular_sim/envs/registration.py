@@ -1,11 +1,14 @@
 """Registers the Gymnasium ids (``gymnasium.make("endovascular_sim/...")``)."""
 import gymnasium
 
+from endovascular_sim.envs.targets import branch_targets
+
 CONTROL_INTERVAL_FLUOROSCOPY = 1.0 / 7.5  # [s] a fluoroscopy frame, as stEVE steps
 
 ENVIRONMENTS = {
     "endovascular_sim/ArchNavigation-v0": dict(scene="arch_navigation"),
-    "endovascular_sim/NetworkNavigation-v0": dict(scene="network_navigation"),
+    "endovascular_sim/NetworkNavigation-v0": dict(
+        scene="network_navigation", targets=branch_targets),
     "endovascular_sim/Navigation-v0": dict(),  # any scene file: gymnasium.make(id, scene=PATH)
 }
 

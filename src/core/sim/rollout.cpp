@@ -19,6 +19,15 @@ int totalNodes(const SceneModel& model) {
   return n;
 }
 
+/// Takes the step's forces into the peaks of simulation n's command t.
+void notePeaks(const SimData& data, long nt, RolloutOutput* out) {
+  out->max_wall_force[nt] = std::max(out->max_wall_force[nt], maxWallForce(data));
+  for (int d = 0; d < out->devices && d < static_cast<int>(data.drives.size()); ++d) {
+    double& peak = out->peak_drive_force[static_cast<size_t>(nt) * out->devices + d];
+    peak = std::max(peak, std::abs(data.drives[d].axial_force));
+  }
+}
+
 /// Records simulation n's state after command t.
 void record(const SceneModel& model, const SimData& data, long n, long t, bool failed,
             RolloutOutput* out) {
@@ -26,7 +35,6 @@ void record(const SceneModel& model, const SimData& data, long n, long t, bool f
   const int nd = out->devices;
   out->time[nt] = data.time;
   out->failed[nt] = failed ? 1 : 0;
-  out->max_wall_force[nt] = maxWallForce(data);
   double* node = &out->node_position[static_cast<size_t>(nt) * out->nodes * 3];
   for (int d = 0; d < nd; ++d) {
     const DeviceState& s = data.devices[d];
@@ -59,6 +67,7 @@ void rollOne(const SceneModel& model, SimData* data, const double* commands, lon
         const StepStatus status = recover ? stepOrRecover(model, data, &recovered)
                                           : step(model, data);
         failed = status != StepStatus::kOk;
+        if (!failed) notePeaks(*data, n * out->horizon + t, out);
       }
     }
     record(model, *data, n, t, failed, out);
@@ -135,6 +144,7 @@ RolloutOutput rollout(const std::vector<const SceneModel*>& models,
   out.inserted_length.assign(nt * out.devices, 0.0);
   out.rotation_angle.assign(nt * out.devices, 0.0);
   out.drive_force.assign(nt * out.devices, 0.0);
+  out.peak_drive_force.assign(nt * out.devices, 0.0);
   out.tip_vessel.assign(nt * out.devices, -1);
 
   std::atomic<long> next{0};
