@@ -26,8 +26,8 @@ from endovascular_sim.envs.scene_options import load_env_scene
 
 
 OPTIONS = ("scene", "target", "targets", "device", "control_interval", "time_step", "time_limit",
-           "observation", "pixels", "image_size", "reward", "safe_force", "nthread", "render_mode",
-           "model")
+           "observation", "pixels", "image_size", "reward", "safe_force", "reset_rotation",
+           "nthread", "render_mode", "model")
 
 
 class NavigationEnv(gymnasium.Env):
@@ -52,6 +52,10 @@ class NavigationEnv(gymnasium.Env):
         reward: an object with ``reset(env)`` and ``__call__(env, outcome)``
             (default ``PathProgress()``).
         safe_force: [N] a success is safe when no wall force exceeded it.
+        reset_rotation: [rad] each episode starts with every device turned
+            by an angle drawn in [-reset_rotation, reset_rotation] (the
+            drives turn them before the episode's clock starts), as a hand
+            picks a device up at any angle; 0: the scene's placement.
         nthread: threads of the rollout a step runs (1: this one).
         render_mode: None or "rgb_array" (the X-ray image).
         model: a loaded SceneModel to share (then ``scene`` and ``time_step``
@@ -63,7 +67,7 @@ class NavigationEnv(gymnasium.Env):
     def __init__(self, scene="arch_navigation", target=None, targets=None, device=None,
                  control_interval=CONTROL_INTERVAL_FLUOROSCOPY, time_step=None, time_limit=30.0,
                  observation="3d", pixels=False, image_size=128, reward=None, safe_force=1.0,
-                 nthread=1, render_mode=None, model=None, **unknown):
+                 reset_rotation=0.0, nthread=1, render_mode=None, model=None, **unknown):
         if unknown:
             raise TypeError(f"unknown option(s) {', '.join(sorted(unknown))} of NavigationEnv: "
                             f"its options are {', '.join(OPTIONS)}")
@@ -87,6 +91,9 @@ class NavigationEnv(gymnasium.Env):
             raise ValueError("nthread must be at least 1")
         self.nthread = nthread
         self.render_mode = render_mode
+        if not (0.0 <= reset_rotation <= math.pi):
+            raise ValueError(f"reset_rotation {reset_rotation!r} rad must lie in [0, pi]")
+        self.reset_rotation = reset_rotation
         self.data = evs.make_data(self.model)
         self.limits = np.array([[d["max_insertion_speed"], d["max_rotation_speed"]]
                                 for d in self.model.devices]).ravel()
@@ -116,6 +123,8 @@ class NavigationEnv(gymnasium.Env):
                              f"(its targets: {listed(self.targets)})")
         self.target = target
         evs.reset_data(self.model, self.data)
+        if self.reset_rotation > 0.0:
+            self._turn_devices()
         self.last_action[:] = 0.0
         self.episode.reset()
         self.reward.reset(self)
@@ -130,6 +139,20 @@ class NavigationEnv(gymnasium.Env):
         if self.render_mode != "rgb_array":
             return None
         return np.repeat(self.xray.render(self.data)[:, :, None], 3, axis=2)
+
+    def _turn_devices(self):
+        """Turns every device by a random angle, by its drive (position mode),
+        then holds it (velocity 0)."""
+        angles = self.np_random.uniform(-self.reset_rotation, self.reset_rotation,
+                                        len(self.model.devices))
+        for d, angle in enumerate(angles):
+            inserted = self.data.devices[d].inserted_length
+            evs.set_command(self.model, self.data, d, inserted, float(angle), mode="position")
+        fastest = min(d["max_rotation_speed"] for d in self.model.devices)
+        evs.step(self.model, self.data, int(math.ceil(self.reset_rotation / fastest
+                                                      / self.model.time_step)) + 1)
+        for d in range(len(self.model.devices)):
+            evs.set_command(self.model, self.data, d, 0.0, 0.0)
 
     # -- the parts a vector environment shares --------------------------------
     def commands_of(self, action):

@@ -6,7 +6,7 @@ from endovascular_sim.envs.targets import branch_targets
 CONTROL_INTERVAL_FLUOROSCOPY = 1.0 / 7.5  # [s] a fluoroscopy frame, as stEVE steps
 
 ENVIRONMENTS = {
-    "endovascular_sim/ArchNavigation-v0": dict(scene="arch_navigation"),
+    "endovascular_sim/ArchNavigation-v0": dict(scene="arch_navigation", reset_rotation=3.141592653589793),
     "endovascular_sim/NetworkNavigation-v0": dict(
         scene="network_navigation", targets=branch_targets),
     "endovascular_sim/Navigation-v0": dict(),  # any scene file: gymnasium.make(id, scene=PATH)

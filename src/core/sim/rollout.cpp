@@ -5,6 +5,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <condition_variable>
+#include <exception>
+#include <functional>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -12,6 +16,84 @@
 namespace evsim {
 
 namespace {
+
+/// Threads kept between batches (a thread's caches, core/thread_cache.h,
+/// stay warm: a vector environment's batch is a few steps long). run()
+/// calls task(i) for every i in [0, n) on up to `threads` threads, the
+/// caller's among them, and returns when all are done. A second caller
+/// while a batch runs steps its own on its thread alone.
+class WorkerPool {
+ public:
+  static WorkerPool& instance() {
+    static WorkerPool* pool = new WorkerPool;  // never destroyed: its threads wait until exit
+    return *pool;
+  }
+
+  void run(long n, int threads, const std::function<void(long)>& task) {
+    std::unique_lock<std::mutex> batch(batch_, std::try_to_lock);
+    if (!batch.owns_lock() || threads <= 1) {
+      for (long i = 0; i < n; ++i) task(i);
+      return;
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      while (static_cast<int>(workers_.size()) < threads - 1)
+        workers_.emplace_back([this, k = static_cast<int>(workers_.size())] { serve(k); });
+      task_ = &task;
+      count_ = n;
+      next_ = 0;
+      helpers_ = threads - 1;
+      busy_ = helpers_;
+      error_ = nullptr;
+      ++generation_;
+    }
+    wake_.notify_all();
+    work();
+    std::unique_lock<std::mutex> lock(mutex_);
+    done_.wait(lock, [this] { return busy_ == 0; });
+    task_ = nullptr;
+    if (error_) std::rethrow_exception(error_);
+  }
+
+ private:
+  void work() {
+    for (long i = next_++; i < count_; i = next_++) {
+      try {
+        (*task_)(i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!error_) error_ = std::current_exception();
+      }
+    }
+  }
+
+  void serve(int index) {
+    unsigned seen = 0;
+    for (;;) {
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        wake_.wait(lock, [&] { return generation_ != seen; });
+        seen = generation_;
+        if (index >= helpers_) continue;  // not wanted for this batch
+      }
+      work();
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (--busy_ == 0) done_.notify_one();
+    }
+  }
+
+  std::mutex batch_;  // one batch at a time
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  std::vector<std::thread> workers_;
+  const std::function<void(long)>* task_{nullptr};
+  std::atomic<long> next_{0};
+  long count_{0};
+  int helpers_{0};
+  int busy_{0};
+  unsigned generation_{0};
+  std::exception_ptr error_;
+};
 
 int totalNodes(const SceneModel& model) {
   int n = 0;
@@ -147,17 +229,11 @@ RolloutOutput rollout(const std::vector<const SceneModel*>& models,
   out.peak_drive_force.assign(nt * out.devices, 0.0);
   out.tip_vessel.assign(nt * out.devices, -1);
 
-  std::atomic<long> next{0};
-  auto work = [&]() {
-    for (long n = next++; n < out.batch; n = next++)
-      rollOne(*models[models.size() == 1 ? 0 : n], data[n], commands, n, steps_per_command,
-              recover, &out);
+  const std::function<void(long)> task = [&](long n) {
+    rollOne(*models[models.size() == 1 ? 0 : n], data[n], commands, n, steps_per_command, recover,
+            &out);
   };
-  const int pool = std::clamp(threads, 1, static_cast<int>(out.batch));
-  std::vector<std::thread> workers;
-  for (int k = 1; k < pool; ++k) workers.emplace_back(work);
-  work();
-  for (std::thread& w : workers) w.join();
+  WorkerPool::instance().run(out.batch, std::clamp(threads, 1, static_cast<int>(out.batch)), task);
   return out;
 }
 

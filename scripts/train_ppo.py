@@ -1,0 +1,189 @@
+#!/usr/bin/env python3
+"""A baseline that learns: Stable-Baselines3's PPO on ArchNavigation-v0, to
+the right and left common carotids from the descending aorta.
+
+Trains on N worker processes (SubprocVecEnv), writes the learning curve
+(training episodes' success over steps and wall time) as CSV and PNG, then
+evaluates the trained agent over the evaluation episodes beside the
+autopilot from the same start states (each episode's devices turned by its
+seed, reset_rotation), and prints one JSON summary line.
+
+    bash scripts/python.sh scripts/train_ppo.py --steps 200000 --out build/ppo
+    bash scripts/python.sh scripts/train_ppo.py --evaluate build/ppo/model.zip --episodes 100
+"""
+import argparse
+import csv
+import json
+import os
+import pathlib
+import time
+
+import numpy as np
+
+TARGETS = ("right_common_carotid", "left_common_carotid")
+
+
+def make_env(seed, interval, time_limit, time_step):
+    def thunk():
+        import torch  # each worker: one thread, the machine's cores are the workers
+        torch.set_num_threads(1)
+        import gymnasium
+        from stable_baselines3.common.monitor import Monitor
+
+        import endovascular_sim  # noqa: F401  (registers the ids)
+        env = gymnasium.make("endovascular_sim/ArchNavigation-v0", targets=list(TARGETS),
+                             control_interval=interval, time_limit=time_limit, time_step=time_step)
+        env = Monitor(env, info_keywords=("success", "target"))
+        env.reset(seed=seed)
+        return env
+    return thunk
+
+
+class Curve:
+    """Training episodes as they end: steps, wall time, success, target."""
+
+    def __init__(self, path):
+        self.rows, self.path, self.start = [], path, time.perf_counter()
+
+    def callback(self):
+        from stable_baselines3.common.callbacks import BaseCallback
+        curve = self
+
+        class Record(BaseCallback):
+            def _on_step(self):
+                for info in self.locals["infos"]:
+                    if "episode" in info:
+                        curve.rows.append((self.num_timesteps, time.perf_counter() - curve.start,
+                                           float(info["episode"]["success"]), info["target"]))
+                return True
+        return Record()
+
+    def write(self):
+        with open(self.path, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(["env_steps", "wall_s", "success", "target"])
+            w.writerows(self.rows)
+
+
+def plot(curve_csv, png, window=50):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    rows = list(csv.DictReader(open(curve_csv)))
+    steps = np.array([float(r["env_steps"]) for r in rows])
+    wall = np.array([float(r["wall_s"]) for r in rows]) / 60.0
+    success = np.array([float(r["success"]) for r in rows])
+    k = np.ones(window) / window
+    rate = np.convolve(success, k, mode="valid") if len(success) >= window else success
+    fig, ax = plt.subplots(figsize=(7, 3.6))
+    ax.plot(steps[len(steps) - len(rate):], 100 * rate, color="tab:blue")
+    ax.set_xlabel("environment steps (1/7.5 s each)")
+    ax.set_ylabel(f"success over the last {window} episodes [%]")
+    ax.set_ylim(0, 100)
+    ax.grid(alpha=0.3)
+    top = ax.secondary_xaxis("top", functions=(
+        lambda s: np.interp(s, steps, wall), lambda m: np.interp(m, wall, steps)))
+    top.set_xlabel("wall time [min], 2 worker processes")
+    ax.set_title("PPO on ArchNavigation-v0 (right and left common carotid)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+
+
+def evaluate(model_path, episodes, interval, time_limit, time_step, vecnorm_path):
+    """The agent and the autopilot from the same start states."""
+    import gymnasium
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+
+    import endovascular_sim as evs
+    agent = PPO.load(model_path, device="cpu")
+    norm = None
+    if vecnorm_path and os.path.exists(vecnorm_path):
+        norm = VecNormalize.load(vecnorm_path,
+                                 DummyVecEnv([make_env(0, interval, time_limit, time_step)]))
+        norm.training = False
+    results = []
+    for k in range(episodes):
+        target = TARGETS[k % len(TARGETS)]
+        seed = 100000 + k
+        env = gymnasium.make("endovascular_sim/ArchNavigation-v0", targets=list(TARGETS),
+                             control_interval=interval, time_limit=time_limit,
+                             time_step=time_step).unwrapped
+        obs, info = env.reset(seed=seed, options={"target": target})
+        start_state = evs.state_text(env.model, env.data)
+        done = False
+        while not done:
+            o = norm.normalize_obs(obs[None])[0] if norm else obs
+            action, _ = agent.predict(o, deterministic=True)
+            obs, r, terminated, truncated, info = env.step(action)
+            done = terminated or truncated
+        agent_row = dict(info)
+        evs.load_state_text(env.model, env.data, start_state)
+        report = evs.run_autopilot(env.model, env.data, target, timeout=time_limit)
+        results.append({"target": target, "seed": seed, "agent_success": agent_row["success"],
+                        "agent_time": agent_row["time"],
+                        "agent_peak_wall_force": agent_row["peak_wall_force"],
+                        "agent_path_ratio": agent_row["path_ratio"],
+                        "autopilot_success": bool(report["reached"]),
+                        "autopilot_time": report["time"],
+                        "autopilot_peak_wall_force": report["peak_wall_force"]})
+    return results
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    p.add_argument("--steps", type=int, default=200000, help="environment steps of training")
+    p.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    p.add_argument("--interval", type=float, default=1.0 / 7.5, help="[s] per action")
+    p.add_argument("--time-limit", type=float, default=20.0, help="[s] simulated per episode")
+    p.add_argument("--time-step", type=float, default=0.002,
+                   help="[s] of the physics (docs/performance.md: what it costs in accuracy)")
+    p.add_argument("--episodes", type=int, default=100, help="evaluation episodes")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--out", default="build/ppo", help="folder for the model, curve and results")
+    p.add_argument("--evaluate", help="evaluate this saved model instead of training")
+    a = p.parse_args()
+    out = pathlib.Path(a.out)
+    out.mkdir(parents=True, exist_ok=True)
+    model_path, vecnorm_path = a.evaluate or str(out / "model.zip"), str(out / "vecnormalize.pkl")
+    train_s = None
+    if not a.evaluate:
+        import torch
+        torch.set_num_threads(1)
+        from stable_baselines3 import PPO
+        from stable_baselines3.common.vec_env import SubprocVecEnv, VecNormalize
+        venv = SubprocVecEnv([make_env(a.seed + i, a.interval, a.time_limit, a.time_step)
+                              for i in range(a.workers)], start_method="fork")
+        venv = VecNormalize(venv, norm_obs=True, norm_reward=True, clip_obs=10.0)
+        agent = PPO("MlpPolicy", venv, n_steps=512, batch_size=128, n_epochs=10, gamma=0.99,
+                    gae_lambda=0.95, learning_rate=3e-4, ent_coef=0.0, seed=a.seed,
+                    policy_kwargs=dict(net_arch=[128, 128]), device="cpu", verbose=0)
+        curve = Curve(out / "curve.csv")
+        start = time.perf_counter()
+        agent.learn(total_timesteps=a.steps, callback=curve.callback())
+        train_s = time.perf_counter() - start
+        agent.save(model_path)
+        venv.save(vecnorm_path)
+        venv.close()
+        curve.write()
+        plot(out / "curve.csv", out / "curve.png")
+    results = evaluate(model_path, a.episodes, a.interval, a.time_limit, a.time_step, vecnorm_path)
+    with open(out / "evaluation.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(results[0]))
+        w.writeheader()
+        w.writerows(results)
+    summary = {"train_steps": a.steps if not a.evaluate else None, "train_wall_s": train_s,
+               "episodes": len(results), "time_step": a.time_step}
+    for target in TARGETS:
+        rows = [r for r in results if r["target"] == target]
+        summary[target] = {
+            "agent_success": float(np.mean([r["agent_success"] for r in rows])),
+            "autopilot_success": float(np.mean([r["autopilot_success"] for r in rows])),
+            "agent_median_time_s": float(np.median([r["agent_time"] for r in rows])),
+            "autopilot_median_time_s": float(np.median([r["autopilot_time"] for r in rows])),
+        }
+    print(json.dumps(summary))
+
+
+if __name__ == "__main__":
+    main()
