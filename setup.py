@@ -7,6 +7,6 @@ from setuptools import setup
 from catkin_pkg.python_setup import generate_distutils_setup
 
 setup(**generate_distutils_setup(
-    packages=["endovascular_sim", "endovascular_sim.envs"],
+    packages=["endovascular_sim", "endovascular_sim.envs", "endovascular_sim.batch"],
     package_dir={"": "python"},
 ))

@@ -41,6 +41,8 @@ packages=(
   # Gymnasium and Stable-Baselines3 need from Debian (requirements.txt: the rest)
   pybind11-dev python3-dev python3-venv python3-pytest python3-yaml
   python3-torch python3-pandas python3-cloudpickle python3-typing-extensions
+  # batches on a cluster: Dask's scheduler and workers
+  python3-dask python3-distributed
   # independent LCP oracle for the contact tests
   libsiconos-numerics-dev
 )

@@ -14,7 +14,14 @@ when gymnasium is importable (``endovascular_sim.envs``).
     evs.step(model, data, 1000)
     data.devices[0].position       # (nodes x 3) [m], a view
 """
-from endovascular_sim._core import (  # noqa: F401
+from pkgutil import extend_path
+
+# The package's parts in every folder of sys.path that holds one: these
+# sources, and the catkin workspace's compiled core (_core) and messages
+# (msg, srv), whichever of the two folders Python found first.
+__path__ = extend_path(__path__, __name__)
+
+from endovascular_sim._core import (  # noqa: E402,F401
     Autopilot,
     DeviceState,
     LoadError,
@@ -51,3 +58,13 @@ else:
     from endovascular_sim.envs.registration import register_environments
 
     register_environments()
+
+
+def evsim_binary():
+    """The path of the evsim command built beside this module (the devel and
+    install spaces share the layout lib/python3/dist-packages/endovascular_sim
+    and lib/endovascular_sim/evsim)."""
+    import os
+    from endovascular_sim import _core
+    lib = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(_core.__file__))))
+    return os.path.join(lib, "endovascular_sim", "evsim")
