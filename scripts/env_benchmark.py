@@ -11,7 +11,10 @@ seed) for `--seconds` of simulated time:
   core, stepped by the core's thread pool), in all and per core,
 - the lead tip's distance [mm] from where the finest time step's run put
   it after the same actions (median and largest over the actions).
-Prints a Markdown table (docs/performance.md quotes it).
+Then `evs.rollout` of a batch (--batch copies of the scene, their own
+seeded random commands, 2 s simulated each) on 1 thread and on every core:
+simulated seconds per wall second.
+Prints Markdown tables (docs/performance.md quotes them).
 
     bash scripts/python.sh scripts/env_benchmark.py
 """
@@ -63,6 +66,7 @@ def main():
     p.add_argument("--time-steps", default="0.001,0.002,0.004", help="[s], the first the reference")
     p.add_argument("--cores", type=int, default=os.cpu_count() or 1)
     p.add_argument("--seed", type=int, default=3)
+    p.add_argument("--batch", type=int, default=8, help="simulations of the rollout")
     a = p.parse_args()
     steps = [float(x) for x in a.time_steps.split(",")]
     print(f"ArchNavigation-v0, {a.seconds:g} s simulated per run, {a.cores} cores\n")
@@ -87,6 +91,31 @@ def main():
                 error = f"{np.median(d):.2f}, {d.max():.2f}"
             print(f"| {label} | {dt * 1e3:g} ms | {rate:.1f} | {vec_rate:.1f} "
                   f"({vec_rate / a.cores:.1f}) | {error} |", flush=True)
+    one, all_cores = rollout_rates(a.batch, 2.0, a.cores, a.seed)
+    print(f"\nrollout of {a.batch} arch_navigation simulations, 2 s each: 1 thread "
+          f"{one:.2f} simulated s per wall s, {a.cores} threads {all_cores:.2f} "
+          f"({all_cores / one:.2f}x)")
+
+
+def rollout_rates(batch, seconds, cores, seed):
+    """Simulated seconds per wall second of a batch rolled out on 1 thread
+    and on `cores` threads (each from the scene's start)."""
+    import endovascular_sim as evs
+    model = evs.load_scene(OPTIONS["scene"])
+    hold = 40
+    count = int(round(seconds / (hold * model.time_step)))
+    rng = np.random.default_rng(seed)
+    limits = np.array([[d["max_insertion_speed"], d["max_rotation_speed"]] for d in model.devices])
+    u = rng.uniform(-1.0, 1.0, (batch, count, len(model.devices), 2))
+    u[..., 0] = rng.uniform(-0.2, 1.0, u[..., 0].shape)
+    commands = (u * limits).reshape(batch, count, -1)
+    rates = []
+    for threads in (1, cores):
+        data = [evs.make_data(model) for _ in range(batch)]
+        start = time.perf_counter()
+        evs.rollout(model, data, commands, steps_per_command=hold, nthread=threads)
+        rates.append(batch * count * hold * model.time_step / (time.perf_counter() - start))
+    return rates
 
 
 if __name__ == "__main__":

@@ -89,45 +89,30 @@ def plot(curve_csv, png, window=50):
     fig.savefig(png, dpi=110)
 
 
-def evaluate(model_path, episodes, interval, time_limit, time_step, vecnorm_path):
-    """The agent and the autopilot from the same start states."""
-    import gymnasium
-    from stable_baselines3 import PPO
-    from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+def evaluation_tasks(model_path, vecnorm_path, episodes, interval, time_limit, time_step):
+    """Episodes alternating between the targets, each from its seed's start."""
+    options = dict(targets=list(TARGETS), control_interval=interval, time_limit=time_limit,
+                   time_step=time_step)
+    return [{"task": f"{TARGETS[k % len(TARGETS)]}/{100000 + k}", "agent": model_path,
+             "vecnormalize": vecnorm_path, "env": "endovascular_sim/ArchNavigation-v0",
+             "target": TARGETS[k % len(TARGETS)], "seed": 100000 + k, "options": options}
+            for k in range(episodes)]
 
-    import endovascular_sim as evs
-    agent = PPO.load(model_path, device="cpu")
-    norm = None
-    if vecnorm_path and os.path.exists(vecnorm_path):
-        norm = VecNormalize.load(vecnorm_path,
-                                 DummyVecEnv([make_env(0, interval, time_limit, time_step)]))
-        norm.training = False
-    results = []
-    for k in range(episodes):
-        target = TARGETS[k % len(TARGETS)]
-        seed = 100000 + k
-        env = gymnasium.make("endovascular_sim/ArchNavigation-v0", targets=list(TARGETS),
-                             control_interval=interval, time_limit=time_limit,
-                             time_step=time_step).unwrapped
-        obs, info = env.reset(seed=seed, options={"target": target})
-        start_state = evs.state_text(env.model, env.data)
-        done = False
-        while not done:
-            o = norm.normalize_obs(obs[None])[0] if norm else obs
-            action, _ = agent.predict(o, deterministic=True)
-            obs, r, terminated, truncated, info = env.step(action)
-            done = terminated or truncated
-        agent_row = dict(info)
-        evs.load_state_text(env.model, env.data, start_state)
-        report = evs.run_autopilot(env.model, env.data, target, timeout=time_limit)
-        results.append({"target": target, "seed": seed, "agent_success": agent_row["success"],
-                        "agent_time": agent_row["time"],
-                        "agent_peak_wall_force": agent_row["peak_wall_force"],
-                        "agent_path_ratio": agent_row["path_ratio"],
-                        "autopilot_success": bool(report["reached"]),
-                        "autopilot_time": report["time"],
-                        "autopilot_peak_wall_force": report["peak_wall_force"]})
-    return results
+
+def evaluate(specs, workers):
+    """The agent's episodes and the autopilot's from the same start states,
+    as batches on a local cluster (endovascular_sim.batch)."""
+    from endovascular_sim.batch import runner, tasks
+    from endovascular_sim.batch.cluster import connect
+    with connect(None, workers) as client:
+        agent = runner.run(tasks.evaluate, specs, client=client)
+        pilot = runner.run(tasks.autopilot_episode, specs, client=client)
+    return [{"target": a["target"], "seed": a["seed"], "agent_success": a.get("success"),
+             "agent_time": a.get("time_s"), "agent_peak_wall_force": a.get("peak_wall_force_N"),
+             "agent_path_ratio": a.get("path_ratio"), "autopilot_success": p.get("success"),
+             "autopilot_time": p.get("time_s"),
+             "autopilot_peak_wall_force": p.get("peak_wall_force_N"),
+             "error": a.get("error") or p.get("error")} for a, p in zip(agent, pilot)]
 
 
 def main():
@@ -167,7 +152,8 @@ def main():
         venv.close()
         curve.write()
         plot(out / "curve.csv", out / "curve.png")
-    results = evaluate(model_path, a.episodes, a.interval, a.time_limit, a.time_step, vecnorm_path)
+    results = evaluate(evaluation_tasks(model_path, vecnorm_path, a.episodes, a.interval,
+                                        a.time_limit, a.time_step), a.workers)
     with open(out / "evaluation.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(results[0]))
         w.writeheader()
@@ -177,12 +163,17 @@ def main():
     for target in TARGETS:
         rows = [r for r in results if r["target"] == target]
         summary[target] = {
-            "agent_success": float(np.mean([r["agent_success"] for r in rows])),
-            "autopilot_success": float(np.mean([r["autopilot_success"] for r in rows])),
-            "agent_median_time_s": float(np.median([r["agent_time"] for r in rows])),
-            "autopilot_median_time_s": float(np.median([r["autopilot_time"] for r in rows])),
+            "agent_success": float(np.mean([bool(r["agent_success"]) for r in rows])),
+            "autopilot_success": float(np.mean([bool(r["autopilot_success"]) for r in rows])),
+            "agent_median_time_s": _median([r["agent_time"] for r in rows]),
+            "autopilot_median_time_s": _median([r["autopilot_time"] for r in rows]),
         }
     print(json.dumps(summary))
+
+
+def _median(values):
+    values = [float(v) for v in values if v is not None]
+    return float(np.median(values)) if values else None
 
 
 if __name__ == "__main__":

@@ -72,6 +72,10 @@ def test_a_batch_on_two_workers_gives_the_serial_rows(cluster):
         client.wait_for_workers(2, timeout=30)
         with get_task_stream(client) as stream:
             distributed = runner.run(tasks.rollout, batch, client=client, stream=io.StringIO())
+        # Another function over the same task ids runs anew (the navigation
+        # task cannot read a rollout's spec: failed rows, not the rollouts').
+        other = runner.run(tasks.navigate, batch, client=client, stream=io.StringIO())
+    assert not any(r["ok"] for r in other) and "KeyError" in other[0]["error"]
     assert untimed(distributed) == untimed(serial)
     assert len({t["worker"] for t in stream.data}) == 2  # both workers ran tasks
     bad = distributed[-1]

@@ -97,8 +97,10 @@ def _on_cluster(client, function, pending, take):
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
 
-    futures = {client.submit(function, spec, key=f"evsim-{spec['task']}", pure=False): spec
-               for spec in pending}
+    # A key per function and task: two batches of one client with the same
+    # task ids are different tasks.
+    futures = {client.submit(function, spec, key=f"{function.__name__}/{spec['task']}",
+                             pure=False): spec for spec in pending}
     waiting = as_completed(futures, with_results=False)
     alone_since = None
     while not waiting.is_empty():

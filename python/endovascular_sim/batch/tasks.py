@@ -107,6 +107,31 @@ evaluate.columns = ("task", "ok", "error", "target", "seed", "success", "safe_su
                     "path_ratio", "peak_wall_force_N", "wall_s")
 
 
+def autopilot_episode(spec):
+    """The autopilot from the start state of an environment's episode
+    (spec as for ``evaluate``, without the agent): its success within the
+    episode's time limit, beside an agent's."""
+    import gymnasium
+
+    import endovascular_sim as evs
+    start = time.perf_counter()
+    try:
+        options = dict(spec.get("options", {}))
+        env = gymnasium.make(spec["env"], **options).unwrapped
+        env.reset(seed=spec["seed"], options={"target": spec["target"]})
+        r = evs.run_autopilot(env.model, env.data, spec["target"], "", env.time_limit)
+    except Exception as error:  # noqa: BLE001
+        return _failure(spec, error)
+    return {"task": spec["task"], "ok": True, "error": "", "target": spec["target"],
+            "seed": spec["seed"], "success": r["reached"], "reason": r["reason"],
+            "time_s": r["time"], "peak_wall_force_N": r["peak_wall_force"],
+            "wall_s": time.perf_counter() - start}
+
+
+autopilot_episode.columns = ("task", "ok", "error", "target", "seed", "success", "reason",
+                             "time_s", "peak_wall_force_N", "wall_s")
+
+
 def accuracy(spec):
     """``evsim bench accuracy WHAT`` on a worker: its rows (knob, value, error,
     cost), each tagged with the task."""
