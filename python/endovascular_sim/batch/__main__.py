@@ -78,6 +78,7 @@ def build(a):
                                for s in range(a.seed, a.seed + a.count)], None
     targets = a.targets
     specs = [{"task": f"evaluate/{targets[k % len(targets)]}/{100000 + k}", "agent": a.agent,
+              "algo": a.algo,
               "vecnormalize": a.vecnormalize, "env": a.env, "target": targets[k % len(targets)],
               "seed": 100000 + k, "options": {"targets": list(targets),
                                               "time_step": a.time_step,
@@ -118,8 +119,9 @@ def parser():
     rol.add_argument("--commands", type=int, default=30)
     rol.add_argument("--hold", type=int, default=40, help="steps per command")
     rol.add_argument("--seed", type=int, default=0)
-    ev = kinds.add_parser("evaluate", parents=[where], help="a PPO agent over targets and seeds")
-    ev.add_argument("--agent", required=True, help="a Stable-Baselines3 PPO .zip")
+    ev = kinds.add_parser("evaluate", parents=[where], help="an agent over targets and seeds")
+    ev.add_argument("--agent", required=True, help="a Stable-Baselines3 agent's .zip")
+    ev.add_argument("--algo", default="sac", choices=("sac", "ppo"))
     ev.add_argument("--vecnormalize", help="its VecNormalize statistics (.pkl)")
     ev.add_argument("--env", default="endovascular_sim/ArchNavigation-v0")
     ev.add_argument("--targets", nargs="+", default=["right_common_carotid",

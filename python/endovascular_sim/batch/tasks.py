@@ -69,7 +69,8 @@ rollout.columns = ("task", "ok", "error", "scene", "seed", "time_s", "tips_m", "
 
 
 def evaluate(spec):
-    """An episode of a Stable-Baselines3 agent (spec['agent'], a saved .zip;
+    """An episode of a Stable-Baselines3 agent (spec['agent'], a saved .zip of
+    the algorithm spec['algo'], "sac" or "ppo";
     spec['vecnormalize'] its observation statistics, optional) in the
     environment spec['env'] with spec['options'], to spec['target'], from
     the start state of spec['seed']."""
@@ -79,8 +80,9 @@ def evaluate(spec):
     import endovascular_sim  # noqa: F401  (registers the ids)
     start = time.perf_counter()
     try:
-        from stable_baselines3 import PPO
-        agent = PPO.load(spec["agent"], device="cpu")
+        import stable_baselines3
+        algorithm = getattr(stable_baselines3, spec.get("algo", "ppo").upper())
+        agent = algorithm.load(spec["agent"], device="cpu")
         env = gymnasium.make(spec["env"], **spec.get("options", {})).unwrapped
         norm = None
         if spec.get("vecnormalize") and os.path.exists(spec["vecnormalize"]):
