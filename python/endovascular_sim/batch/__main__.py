@@ -76,14 +76,18 @@ def build(a):
         return tasks.rollout, [{"task": f"rollout/{a.scene}/{s}", "scene": a.scene, "seed": s,
                                 "commands": a.commands, "hold": a.hold}
                                for s in range(a.seed, a.seed + a.count)], None
-    targets = a.targets
-    specs = [{"task": f"evaluate/{targets[k % len(targets)]}/{100000 + k}", "agent": a.agent,
-              "algo": a.algo,
-              "vecnormalize": a.vecnormalize, "env": a.env, "target": targets[k % len(targets)],
-              "seed": 100000 + k, "options": {"targets": list(targets),
-                                              "time_step": a.time_step,
-                                              "time_limit": a.time_limit}}
-             for k in range(a.episodes)]
+    targets, scenes = a.targets, a.scenes or [None]
+    specs = []
+    for scene in scenes:  # the anatomies: one environment's scene each
+        env, options = a.env, {"targets": list(targets), "time_step": a.time_step,
+                               "time_limit": a.time_limit}
+        if scene:
+            env, options["scene"] = "endovascular_sim/Navigation-v0", scene
+        for k in range(a.episodes):
+            target = targets[k % len(targets)]
+            specs.append({"task": f"evaluate/{scene or a.env}/{target}/{100000 + k}",
+                          "agent": a.agent, "algo": a.algo, "vecnormalize": a.vecnormalize,
+                          "env": env, "target": target, "seed": 100000 + k, "options": options})
     return tasks.evaluate, specs, None
 
 
@@ -124,9 +128,10 @@ def parser():
     ev.add_argument("--algo", default="sac", choices=("sac", "ppo"))
     ev.add_argument("--vecnormalize", help="its VecNormalize statistics (.pkl)")
     ev.add_argument("--env", default="endovascular_sim/ArchNavigation-v0")
+    ev.add_argument("--scenes", nargs="*", help="anatomies: scenes to evaluate in (Navigation-v0)")
     ev.add_argument("--targets", nargs="+", default=["right_common_carotid",
                                                       "left_common_carotid"])
-    ev.add_argument("--episodes", type=int, default=100)
+    ev.add_argument("--episodes", type=int, default=100, help="per scene")
     ev.add_argument("--time-step", type=float, default=0.002)
     ev.add_argument("--time-limit", type=float, default=20.0)
     return p
