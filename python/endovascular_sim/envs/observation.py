@@ -48,10 +48,17 @@ class TrackedPoints:
         lead = np.asarray(env.data.devices[env.lead].position)
         out = list(_points_behind_tip(lead, TRACKED_BEHIND_TIP))
         out += [np.asarray(d.position[-1]) for i, d in enumerate(env.data.devices) if i != env.lead]
-        depth = env.episode.depth
-        out.append(np.array(env.model.vessel_point(
-            env.target, evs.required_depth(env.model, env.target, depth))))
+        out.append(self.target_point())
         return np.array(out)
+
+    def target_point(self):
+        """The target's centreline point at the reached depth [m] (once per target)."""
+        env = self.env
+        if getattr(self, "_target", None) != env.target:
+            depth = evs.required_depth(env.model, env.target, env.episode.depth)
+            self._target, self._target_point = env.target, np.array(
+                env.model.vessel_point(env.target, depth))
+        return self._target_point
 
     def __call__(self):
         env = self.env
