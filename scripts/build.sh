@@ -20,6 +20,10 @@ find "$pkg" -maxdepth 1 -xtype l -delete  # entries removed from the repository
 # Debian's catkin needs the system python (catkin_pkg lives there).
 export PATH="/usr/bin:$PATH"
 cd "$ws"
+# catkin_make's status, not the filter's (grep fails when it keeps no line).
+set +e
 catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
-  -DCATKIN_ENABLE_TESTING=ON "$@" 2>&1 | grep -vE '^-- |^\[ *[0-9]+%\] (Built|Generating|Building|Linking)|^####|^Base path|^Source space|^Build space|^Devel space|^Install space|^make|^Scanning' || true
-test "${PIPESTATUS[0]}" -eq 0
+  -DCATKIN_ENABLE_TESTING=ON "$@" 2>&1 | grep -vE '^-- |^\[ *[0-9]+%\] (Built|Generating|Building|Linking)|^####|^Base path|^Source space|^Build space|^Devel space|^Install space|^make|^Scanning'
+status=${PIPESTATUS[0]}
+set -e
+exit "$status"

@@ -75,6 +75,8 @@ class Tree:
             for line in comment.strip().splitlines():
                 f.write(f"# {line}\n")
             f.write("# units: mm\n")
+            # x toward the patient's left, y anterior, z superior (supine: -y down)
+            f.write("# frame: LAS\n")
             for name, first in self.names:
                 f.write(f"# vessel: {name} {first}\n")
             f.write("# id type x y z radius parent\n")

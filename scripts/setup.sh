@@ -11,6 +11,8 @@ packages=(
   libeigen3-dev libsuitesparse-dev libyaml-cpp-dev
   liburdfdom-dev liburdfdom-headers-dev libconsole-bridge-dev libtinyxml-dev
   libgtest-dev googletest libgmock-dev libbenchmark-dev libcli11-dev
+  # JSON lines (evsim run --json, navigate), escaped whatever their strings hold
+  nlohmann-json3-dev
   # patient centrelines and ParaView output (VTK), and the example's generator
   libvtk9-dev python3-vtk9
   # virtual fluoroscopy: X-ray cross sections (xraylib), ROS image transport

@@ -20,6 +20,7 @@ constexpr int kExitBadInput = 2;
 struct CenterlineSource {
   std::string units;
   std::string radius_array{"MaximumInscribedSphereRadius"};
+  std::string frame;  // its anatomical frame (LPS, RAS, ...; "": what the file declares)
   std::string base{"patient_example"};
 };
 
@@ -76,6 +77,8 @@ struct NavigationBenchOptions {
   // the targets beyond the trunk are run there ("" none: all in network_scene).
   std::string network_scene_trunk{"network_navigation_headhunter"};
   int network_targets{50};  // drawn from the network (0: the arch alone)
+  int anatomies{0};         // generated arches, each to its targets (evsim arch)
+  std::string anatomy_dir;  // where their files go ("": a folder under the temp dir)
   int min_branchings{3};    // bifurcations passed from the access to a network target
   int max_branchings{6};
   unsigned seed{1};
@@ -83,6 +86,17 @@ struct NavigationBenchOptions {
   double timeout{60.0};  // [s] simulated per run
   std::string csv;       // every run's row ("" none)
 };
+struct ArchOptions {
+  unsigned long seed{1};
+  int count{1};       // arches, seeds seed .. seed + count - 1
+  std::string out;    // the folder of the files
+  int type{0};        // 0: drawn, else 1-3
+  int bovine{-1};     // -1 drawn, 0 never, 1 always
+  int aberrant_rsa{-1};
+};
+/// `evsim arch`: generated arches as VMTK-style centrelines and their scenes.
+int archCommand(const ArchOptions& options);
+
 /// `evsim bench navigation`: the autopilot on the arch scenes' targets and
 /// on targets drawn in the network; a line per run, a summary, a CSV.
 int benchNavigation(const NavigationBenchOptions& options);

@@ -29,6 +29,9 @@ void addCenterlineSource(CLI::App* command, CenterlineSource* c) {
                       "a .vtp/.vtk centreline's units: m, cm, mm, um (required for them)");
   command->add_option("--radius-array", c->radius_array,
                       "its radius point-data array (default MaximumInscribedSphereRadius)");
+  command->add_option("--frame", c->frame,
+                      "its anatomical frame, where +x, +y, +z point in the patient (LPS, RAS, "
+                      "...; default: what the file declares; needed for gravity: supine)");
   command->add_option("--base", c->base,
                       "the scene whose devices and settings it gets, entering at its inlet "
                       "(default patient_example)");
@@ -67,6 +70,11 @@ void addNavigationBench(CLI::App* bench, NavigationBenchOptions* o) {
   nav->add_option("--min-branchings", o->min_branchings, "bifurcations to a target, at least")
       ->check(CLI::Range(1, 50));
   nav->add_option("--max-branchings", o->max_branchings, "and at most")->check(CLI::Range(1, 50));
+  nav->add_option("--anatomies", o->anatomies,
+                  "generated arches (evsim arch, seeds from --seed), each to its five targets")
+      ->check(CLI::Range(0, 10000));
+  nav->add_option("--anatomy-dir", o->anatomy_dir,
+                  "where the generated arches' files go (default: a folder under the temp dir)");
   nav->add_option("--seed", o->seed, "seed of the draw");
   nav->add_option("--jobs", o->jobs, "runs at once")->check(CLI::Range(1, 64));
   nav->add_option("--timeout", o->timeout, "simulated seconds per run")
@@ -222,6 +230,21 @@ int dispatch(int argc, char** argv) {
                      "the scene format's keys (type, unit, default, range, meaning) as Markdown");
   CheckOptions check;
   addCheck(app, &check);
+  ArchOptions arch;
+  CLI::App* arch_command = app.add_subcommand(
+      "arch", "generated aortic arches (types I-III, bovine, aberrant right subclavian) as "
+              "VMTK-style centrelines and their scenes");
+  arch_command->add_option("--seed", arch.seed, "the first arch's seed");
+  arch_command->add_option("--count", arch.count, "arches, seeds --seed onward")
+      ->check(CLI::Range(1, 10000));
+  arch_command->add_option("--out", arch.out, "the folder of the files")->required();
+  arch_command->add_option("--type", arch.type, "arch type 1-3 (default: drawn)")
+      ->check(CLI::Range(1, 3));
+  arch_command->add_option("--bovine", arch.bovine, "1 always, 0 never (default: drawn)")
+      ->check(CLI::Range(0, 1));
+  arch_command->add_option("--aberrant-subclavian", arch.aberrant_rsa,
+                           "1 always, 0 never (default: drawn)")
+      ->check(CLI::Range(0, 1));
   std::string vessels_scene;
   CenterlineSource vessels_centerline;
   CLI::App* vessels = app.add_subcommand(
@@ -233,7 +256,8 @@ int dispatch(int argc, char** argv) {
   if (argc > 1 && argv[1][0] != '-' && known.empty()) {
     std::cerr
         << "evsim: unknown command '" << argv[1]
-        << "' (run, bench, navigate, render, materials, mesh, vessels, check, list, schema; evsim "
+        << "' (run, bench, navigate, render, materials, mesh, vessels, check, arch, list, schema; "
+           "evsim "
            "--help)\n";
     return kExitBadInput;
   }
@@ -250,6 +274,7 @@ int dispatch(int argc, char** argv) {
   if (app.got_subcommand("materials")) return materialsCommand(energy_kev);
   if (app.got_subcommand("vessels")) return vesselsCommand(vessels_scene, vessels_centerline);
   if (app.got_subcommand("check")) return checkFiles(check);
+  if (app.got_subcommand("arch")) return archCommand(arch);
   if (app.got_subcommand("schema")) {
     std::cout << sceneSchemaMarkdown();
     return kExitOk;

@@ -1,7 +1,6 @@
 // `evsim navigate`: the autopilot (sim/autopilot.h) headless: a line per
 // phase, then the summary as one JSON object, on stdout.
 #include <algorithm>
-#include <cstdio>
 #include <fstream>
 #include <iostream>
 
@@ -58,16 +57,7 @@ int navigateScene(const NavigateOptions& o) {
       [&](const SimData& stepped) {
         if (steps.is_open()) steps << stepJson(model, stepped) << "\n";
       });
-  char json[512];
-  std::snprintf(json, sizeof(json),
-                "{\"scene\":\"%s\",\"target\":\"%s\",\"device\":\"%s\",\"reached\":%s,"
-                "\"reason\":\"%s\",\"time_s\":%.3f,\"retries\":%d,\"peak_wall_force_N\":%.4g,"
-                "\"failed_steps\":%ld,\"remaining_path_m\":%.4f,\"final_vessel\":\"%s\"}",
-                model.name.c_str(), atlas.vessels()[pilot.target()].name.c_str(),
-                model.devices[pilot.device()].name.c_str(), r.reached ? "true" : "false",
-                r.reason.c_str(), r.time, r.retries, r.peak_wall_force, r.failed_steps,
-                r.remaining_path, atlas.vessels()[data.tips[pilot.device()].vessel].name.c_str());
-  std::cout << json << "\n";
+  std::cout << autopilotJson(model, data, pilot.target(), pilot.device(), r) << "\n";
   return r.reached ? kExitOk : kExitFailure;
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <mutex>
@@ -14,17 +15,19 @@
 
 #include "commands.h"
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/scene/arch_scene.h"
 #include "endovascular_sim/sim/autopilot.h"
 
 namespace evsim {
 namespace {
 
 struct Case {
-  std::string group;  // "arch" or "network"
+  std::string group;  // "arch", "network" or "anatomy"
   std::string scene;
   std::string target;
   std::string device;
-  int branchings{0};  // bifurcations passed from the access to the target
+  int branchings{0};    // bifurcations passed from the access to the target
+  std::string variant;  // a generated arch's: "type II", "type I, bovine", ...
 };
 
 struct Outcome {
@@ -67,7 +70,7 @@ std::vector<Case> networkCases(const NavigationBenchOptions& o) {
     all.push_back(
         {"network",
          beyond_trunk && !o.network_scene_trunk.empty() ? o.network_scene_trunk : o.network_scene,
-         vessels[v].name, "", n});
+         vessels[v].name, "", n, ""});
   }
   std::mt19937 random(o.seed);
   std::shuffle(all.begin(), all.end(), random);
@@ -87,8 +90,31 @@ std::vector<Case> archCases(const NavigationBenchOptions& o) {
       if (t.spec.aneurysm >= 0) continue;  // (a coil's target: not the autopilot's)
       const int d = t.device >= 0 ? t.device : 0;
       cases.push_back({"arch", scene, t.spec.vessel, t.spec.device,
-                       branchingsAlong(*model.atlas, data.tips[d].vessel, t.vessel)});
+                       branchingsAlong(*model.atlas, data.tips[d].vessel, t.vessel), ""});
     }
+  }
+  return cases;
+}
+
+/// Generated arches (evsim arch), seeds seed .. seed + anatomies - 1, each
+/// to its targets with the catheter a clinician takes for each.
+std::vector<Case> anatomyCases(const NavigationBenchOptions& o) {
+  const std::string dir = o.anatomy_dir.empty()
+                              ? (std::filesystem::temp_directory_path() /
+                                 ("evsim_arches_" + std::to_string(o.seed)))
+                                    .string()
+                              : o.anatomy_dir;
+  std::vector<Case> cases;
+  for (int k = 0; k < o.anatomies; ++k) {
+    const ArchParameters p = drawArch(o.seed + k);
+    const ArchScenes files = writeArchScenes(p, dir);
+    std::string variant = p.type == ArchType::kI    ? "type I"
+                          : p.type == ArchType::kII ? "type II"
+                                                    : "type III";
+    if (p.bovine) variant += ", bovine";
+    if (p.aberrant_rsa) variant += ", aberrant RSA";
+    for (const std::string& target : archTargets(p))
+      cases.push_back({"anatomy", files.target_scene.at(target), target, "guidewire", 0, variant});
   }
   return cases;
 }
@@ -100,13 +126,15 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-void printSummary(const std::string& group, const std::vector<Case>& cases,
-                  const std::vector<Outcome>& out) {
+/// A summary line of the runs `pick` selects, headed `label`.
+template <typename Pick>
+void printSummary(const std::string& label, const std::vector<Case>& cases,
+                  const std::vector<Outcome>& out, Pick pick) {
   std::vector<double> times, forces;
   int runs = 0, reached = 0;
   long failed_steps = 0;
   for (size_t i = 0; i < cases.size(); ++i) {
-    if (cases[i].group != group) continue;
+    if (!pick(cases[i])) continue;
     ++runs;
     failed_steps += out[i].report.failed_steps;
     forces.push_back(out[i].report.peak_wall_force);
@@ -115,13 +143,47 @@ void printSummary(const std::string& group, const std::vector<Case>& cases,
     times.push_back(out[i].report.time);
   }
   if (runs == 0) return;
-  std::printf("%-8s reached %d of %d (%.0f %%)", group.c_str(), reached, runs,
+  std::printf("%-8s reached %d of %d (%.0f %%)", label.c_str(), reached, runs,
               100.0 * reached / runs);
   if (!times.empty())
     std::printf("; time to target median %.2f s, worst %.2f s", median(times),
                 *std::max_element(times.begin(), times.end()));
   std::printf("; peak wall force median %.3g N, max %.3g N; failed steps %ld\n", median(forces),
               *std::max_element(forces.begin(), forces.end()), failed_steps);
+}
+
+void printSummary(const std::string& group, const std::vector<Case>& cases,
+                  const std::vector<Outcome>& out) {
+  printSummary(group, cases, out, [&](const Case& c) { return c.group == group; });
+}
+
+/// The generated arches' runs per target and per variant, and every failure
+/// with its reason.
+void printAnatomySummary(const std::vector<Case>& cases, const std::vector<Outcome>& out) {
+  std::vector<std::string> targets, variants;
+  for (const Case& c : cases) {
+    if (c.group != "anatomy") continue;
+    if (std::find(targets.begin(), targets.end(), c.target) == targets.end())
+      targets.push_back(c.target);
+    const std::string type = c.variant.substr(0, c.variant.find(','));
+    for (const std::string& v : {type, c.variant})
+      if (std::find(variants.begin(), variants.end(), v) == variants.end()) variants.push_back(v);
+  }
+  if (targets.empty()) return;
+  printSummary("anatomy", cases, out);
+  for (const std::string& t : targets)
+    printSummary("  " + t, cases, out,
+                 [&](const Case& c) { return c.group == "anatomy" && c.target == t; });
+  std::sort(variants.begin(), variants.end());
+  for (const std::string& v : variants)
+    printSummary("  " + v, cases, out, [&](const Case& c) {
+      return c.group == "anatomy" &&
+             (c.variant == v || c.variant.substr(0, c.variant.find(',')) == v);
+    });
+  for (size_t i = 0; i < cases.size(); ++i)
+    if (cases[i].group == "anatomy" && !out[i].report.reached)
+      std::printf("  failed: %s (%s) %s: %s\n", cases[i].scene.c_str(), cases[i].variant.c_str(),
+                  cases[i].target.c_str(), out[i].report.reason.c_str());
 }
 
 }  // namespace
@@ -131,6 +193,10 @@ int benchNavigation(const NavigationBenchOptions& o) {
   if (o.network_targets > 0) {
     const std::vector<Case> network = networkCases(o);
     cases.insert(cases.end(), network.begin(), network.end());
+  }
+  if (o.anatomies > 0) {
+    const std::vector<Case> anatomy = anatomyCases(o);
+    cases.insert(cases.end(), anatomy.begin(), anatomy.end());
   }
   std::ofstream csv;
   if (!o.csv.empty()) {
@@ -174,9 +240,10 @@ int benchNavigation(const NavigationBenchOptions& o) {
 
   printSummary("arch", cases, out);
   printSummary("network", cases, out);
+  printAnatomySummary(cases, out);
   if (csv) {
     csv << "group,scene,target,branchings,reached,reason,time_s,retries,peak_wall_force_N,"
-           "failed_steps,wall_s\n";
+           "failed_steps,wall_s,variant\n";
     for (size_t i = 0; i < cases.size(); ++i) {
       const AutopilotReport& r = out[i].report;
       std::string reason = r.reason;
@@ -184,7 +251,7 @@ int benchNavigation(const NavigationBenchOptions& o) {
       csv << cases[i].group << ',' << cases[i].scene << ',' << cases[i].target << ','
           << cases[i].branchings << ',' << (r.reached ? 1 : 0) << ",\"" << reason << "\"," << r.time
           << ',' << r.retries << ',' << r.peak_wall_force << ',' << r.failed_steps << ','
-          << out[i].wall_s << '\n';
+          << out[i].wall_s << ",\"" << cases[i].variant << "\"\n";
     }
   }
   return kExitOk;

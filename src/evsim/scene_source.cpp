@@ -7,7 +7,12 @@ namespace evsim {
 SceneSpec sceneSpecOf(const std::string& scene, const CenterlineSource& c) {
   if (!isCenterlinePath(scene)) return loadSceneFile(resolveScenePath(scene));
   const SceneSpec base = loadSceneFile(resolveScenePath(c.base));
-  return centerlineScene(base, {scene, c.units, c.radius_array});
+  CenterlineSceneRequest request;
+  request.centerline = scene;
+  request.units = c.units;
+  request.radius_array = c.radius_array;
+  request.frame = c.frame;
+  return centerlineScene(base, request);
 }
 
 }  // namespace evsim

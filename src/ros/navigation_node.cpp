@@ -53,6 +53,8 @@ NavigationNode::Parameters NavigationNode::readParameters(const ros::NodeHandle&
   readParam(nh, "scene", &p.scene, &problems, "a scene name or path");
   readParam(nh, "units", &p.units, &problems, "m, cm, mm or um");
   readParam(nh, "radius_array", &p.radius_array, &problems, "a point-data array name");
+  readParam(nh, "anatomical_frame", &p.anatomical_frame, &problems,
+            "an orientation code (LPS, RAS, ...)");
   readParam(nh, "centerline_base", &p.centerline_base, &problems, "a scene name or path");
   readParam(nh, "rate", &p.rate_hz, &problems, "a number [Hz]");
   readParam(nh, "frame_id", &p.frame_id, &problems, "a string");
@@ -110,9 +112,13 @@ NavigationNode::NavigationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<endovascular_sim::SolverConfig>>(
       reconfigure_mutex_, private_nh_);
   std::string message;
-  if (!loadSceneNamed({params_.scene, params_.units, params_.radius_array, params_.centerline_base},
-                      &message,
-                      /*from_request=*/false))
+  SceneRequest initial;
+  initial.scene = params_.scene;
+  initial.units = params_.units;
+  initial.radius_array = params_.radius_array;
+  initial.base = params_.centerline_base;
+  initial.frame = params_.anatomical_frame;
+  if (!loadSceneNamed(initial, &message, /*from_request=*/false))
     throw std::runtime_error(message);
   reconfigure_->setCallback(
       [this](endovascular_sim::SolverConfig& c, uint32_t level) { onReconfigure(c, level); });
@@ -196,7 +202,8 @@ SceneModel NavigationNode::buildRequestedScene(const SceneRequest& r, bool from_
   const std::string file = resolve(r.scene);
   if (!isCenterlinePath(file)) return loadScene(file);
   const SceneSpec base = loadSceneFile(resolve(r.base));
-  return buildSceneModel(centerlineScene(base, {file, r.units, r.radius_array}));
+  return buildSceneModel(
+      centerlineScene(base, {file, r.units, r.radius_array, r.frame, r.names}));
 }
 
 bool NavigationNode::loadSceneNamed(const SceneRequest& request, std::string* message,
@@ -326,7 +333,12 @@ bool NavigationNode::onLoadScene(endovascular_sim::LoadScene::Request& req,
                                  endovascular_sim::LoadScene::Response& res) {
   std::lock_guard<std::mutex> one_at_a_time(load_mutex_);
   // A centreline given here takes its units from ~units, read now.
-  SceneRequest r{req.scene, params_.units, params_.radius_array, params_.centerline_base};
+  SceneRequest r;
+  r.scene = req.scene;
+  r.units = params_.units;
+  r.radius_array = params_.radius_array;
+  r.base = params_.centerline_base;
+  r.frame = params_.anatomical_frame;
   private_nh_.getParam("units", r.units);
   res.success = loadSceneNamed(r, &res.message, /*from_request=*/true);
   return true;
@@ -335,9 +347,21 @@ bool NavigationNode::onLoadScene(endovascular_sim::LoadScene::Request& req,
 bool NavigationNode::onLoadCenterline(endovascular_sim::LoadCenterline::Request& req,
                                       endovascular_sim::LoadCenterline::Response& res) {
   std::lock_guard<std::mutex> one_at_a_time(load_mutex_);
-  const SceneRequest r{req.centerline, req.units,
-                       req.radius_array.empty() ? params_.radius_array : req.radius_array,
-                       req.base_scene.empty() ? params_.centerline_base : req.base_scene};
+  SceneRequest r;
+  r.scene = req.centerline;
+  r.units = req.units;
+  r.radius_array = req.radius_array.empty() ? params_.radius_array : req.radius_array;
+  r.base = req.base_scene.empty() ? params_.centerline_base : req.base_scene;
+  r.frame = req.frame.empty() ? params_.anatomical_frame : req.frame;
+  for (const std::string& entry : req.names) {
+    std::string why;
+    if (!parseBranchName(entry, &r.names, &why)) {
+      res.success = false;
+      res.message = "cannot load centreline '" + req.centerline + "': names: " + why;
+      ROS_ERROR_STREAM(res.message);
+      return true;
+    }
+  }
   if (!isCenterlinePath(r.scene)) {
     res.success = false;
     res.message = "cannot load centreline: '" + r.scene + "' is not a .vtp, .vtk or .swc file";

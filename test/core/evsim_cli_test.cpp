@@ -92,7 +92,7 @@ TEST(EvsimCli, CheckPrintsEveryProblemOfASceneAtOnce) {
   const Outcome check = evsim("check " + bad + " " + good);
   EXPECT_EQ(check.code, 2);
   for (const std::string& line :
-       {bad + ":2:12: time_step: must lie in (0, 0.04] s, got 0.5",
+       {bad + ":2:12: time_step: must lie in [1e-6, 0.04] s, got 0.5",
         bad + ":3:1: gravty: unknown key 'gravty' (did you mean 'gravity'?)",
         bad + ":4:45: devices[0].drive.max_force: must be above 0 N, got -2", good + ": ok",
         std::string("1 valid, 1 with errors")})
@@ -125,7 +125,7 @@ TEST(EvsimCli, CheckPrintsEveryProblemOfASceneAtOnce) {
     EXPECT_TRUE(says(files, words)) << words << "\n" << files.output;
   const Outcome schema = evsim("schema");
   EXPECT_EQ(schema.code, 0);
-  EXPECT_TRUE(says(schema, "| `time_step` | number | s | required | (0, 0.04] |"));
+  EXPECT_TRUE(says(schema, "| `time_step` | number | s | required | [1e-6, 0.04] |"));
 }
 
 TEST(EvsimCli, ABareCentrelineIsLookedAtAndRunWithItsUnits) {
@@ -137,7 +137,10 @@ TEST(EvsimCli, ABareCentrelineIsLookedAtAndRunWithItsUnits) {
   const Outcome no_units = evsim("run " + vtp + " --steps 10");
   EXPECT_EQ(no_units.code, 2);
   EXPECT_TRUE(says(no_units, "units declared")) << no_units.output;
-  const Outcome run = evsim("run " + vtp + " --units mm --steps 200");
+  const Outcome no_frame = evsim("run " + vtp + " --units mm --steps 10");
+  EXPECT_EQ(no_frame.code, 2);  // the base lies supine: where is posterior?
+  EXPECT_TRUE(says(no_frame, "vessels.frame")) << no_frame.output;
+  const Outcome run = evsim("run " + vtp + " --units mm --frame LAS --steps 200");
   EXPECT_EQ(run.code, 0) << run.output;
   EXPECT_TRUE(says(run, "guidewire in branch_0")) << run.output;
 }

@@ -49,6 +49,37 @@ TEST(PatientExample, TheMergedTreeIsTheArchItWasMadeFrom) {
   EXPECT_NEAR(aorta_p, aorta_a, 1e-3);
 }
 
+/// The arch a segmentation splits at each ostium (branches 8 and 10), named
+/// as one vessel: its length the two branches', the left common carotid
+/// branching off it part way along; branches that are no chain refused.
+TEST(PatientExample, ConsecutiveBranchesNameOneVessel) {
+  SceneSpec spec = loadSceneFile(resolveScenePath("patient_example"));
+  ASSERT_EQ(spec.vessels.tree.names.at(8), "aortic_arch");
+  ASSERT_EQ(spec.vessels.tree.names.at(10), "aortic_arch");
+  const VesselAtlas chain(buildCenterline(spec.vessels));
+  spec.vessels.tree.names[8] = "distal_aortic_arch";
+  const VesselAtlas split(buildCenterline(spec.vessels));
+  const NamedVessel& arch = chain.vessels()[chain.find("aortic_arch")];
+  const double parts = split.vessels()[split.find("aortic_arch")].length +
+                       split.vessels()[split.find("distal_aortic_arch")].length;
+  EXPECT_NEAR(arch.length, parts, 1e-9);
+  const NamedVessel& lcca = chain.vessels()[chain.find("left_common_carotid")];
+  EXPECT_EQ(chain.vessels()[lcca.parent].name, "aortic_arch");
+  EXPECT_GT(lcca.origin_depth, 0.01);  // off the chain's side, not at an end
+  EXPECT_LT(lcca.origin_depth, arch.length - 0.01);
+  EXPECT_EQ(chain.find("distal_aortic_arch"), -1);
+  EXPECT_EQ(chain.vessels().size() + 1, split.vessels().size());
+  // Siblings (the left subclavian, 6, and the arch's first part, 8) are no chain.
+  spec.vessels.tree.names[6] = "distal_aortic_arch";
+  try {
+    buildCenterline(spec.vessels);
+    ADD_FAILURE() << "two sibling branches named as one vessel";
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("do not follow one another"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(PatientExample, ItsSurfaceKeepsTheRadiiOfTheFile) {
   const SceneSpec spec = loadSceneFile(resolveScenePath("patient_example"));
   const Centerline c = buildCenterline(spec.vessels);
@@ -67,7 +98,11 @@ TEST(PatientExample, ItsSurfaceKeepsTheRadiiOfTheFile) {
 /// devices (what the node's load_centerline builds).
 SceneSpec bareCentrelineScene(const std::string& units) {
   const SceneSpec base = loadSceneFile(resolveScenePath("patient_example"));
-  return centerlineScene(base, {configDirectory() + "/vessels/example_patient.vtp", units});
+  CenterlineSceneRequest request;
+  request.centerline = configDirectory() + "/vessels/example_patient.vtp";
+  request.units = units;
+  request.frame = "LAS";  // the base lies supine: the file's frame says where posterior is
+  return centerlineScene(base, request);
 }
 
 TEST(PatientExample, TheBareCentrelineLoadsAsASceneEnteredAtItsWidestEnd) {

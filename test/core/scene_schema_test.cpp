@@ -73,7 +73,7 @@ TEST(SceneSchema, EveryProblemOfAFileIsFoundAtItsLineAndColumn) {
     std::string key, words;
   };
   const std::vector<Expected> expected = {
-      {2, 12, "time_step", "must lie in (0, 0.04] s, got 0.5"},
+      {2, 12, "time_step", "must lie in [1e-6, 0.04] s, got 0.5"},
       {3, 1, "gravty", "did you mean 'gravity'?"},
       {4, 20, "effects[1]", "'magnetism' must be one of"},
       {5, 19, "contact.solver", "did you mean 'status'?"},
@@ -100,7 +100,7 @@ TEST(SceneSchema, EveryProblemOfAFileIsFoundAtItsLineAndColumn) {
     EXPECT_NE(found[k].what.find(expected[k].words), std::string::npos) << found[k].what;
   }
   EXPECT_EQ(formatProblem("s.yaml", found[0]),
-            "s.yaml:2:12: time_step: must lie in (0, 0.04] s, got 0.5");
+            "s.yaml:2:12: time_step: must lie in [1e-6, 0.04] s, got 0.5");
 }
 
 /// A scene with every section, its paths absolute (written to a temporary

@@ -155,6 +155,9 @@ struct ContactStats {
   int lcp_iterations{0};                     // summed over the loops
   double lcp_residual{0.0};                  // natural-map residual of the last LCP
   double max_penetration_m{0.0};             // deepest sample point beyond the wall at the end [m]
+                                             // (infinite: outside the vessel tree)
+  int deepest_device{-1};                    // that point's device (-1: none beyond)
+  Vec3 deepest_point{Vec3::Zero()};          // and position [m]
   LcpStatus lcp_status{LcpStatus::kSolved};  // not kSolved: the loop stopped at a failed LCP, or
                                              // ended on an unsolved one (lcp.h)
   int tunnelled{0};  // loop iterates inside a vessel whose path from x_t crossed a wall

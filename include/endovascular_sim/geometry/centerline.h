@@ -5,6 +5,9 @@
 // states the unit of x, y, z and radius; otherwise the caller's default
 // applies. Each point with a parent makes one segment (parent -> point).
 //
+// A header comment "# frame: LAS" declares the anatomical frame
+// (geometry/patient_frame.h): which way x, y and z point in the patient.
+//
 // Named vessels: a header comment "# vessel: NAME ID" says that the vessel
 // NAME (snake_case) starts at point ID; every point belongs to the vessel of
 // its nearest ancestor (itself included) that starts one. A root no line
@@ -32,6 +35,7 @@ struct Centerline {
   std::vector<int> type;       // SWC type (free use: region labels)
   std::vector<int> vessel;     // index into vessel_names per point (see nameVessels)
   std::vector<std::string> vessel_names;
+  std::string frame;  // anatomical orientation code (patient_frame.h); "": undeclared
 
   int numPoints() const { return static_cast<int>(position.size()); }
   int numSegments() const;

@@ -43,6 +43,7 @@ struct CenterlinePolylines {
   /// the file has no groups); else empty.
   std::vector<int> point_group;
   int tracts{0};  // the tracts the lines were reassembled from (0: none)
+  std::string frame;  // the anatomical frame the file declares (patient_frame.h; "": none)
 };
 
 struct CenterlineTreeOptions {

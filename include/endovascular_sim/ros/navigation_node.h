@@ -27,6 +27,7 @@
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -50,6 +51,7 @@ class NavigationNode {
   struct Parameters {
     std::string scene{"carotid"};  // ~scene: shipped name or path, or a centreline
     std::string units;             // ~units: of a ~scene that is a VTK centreline
+    std::string anatomical_frame;  // ~anatomical_frame: its orientation code (LPS, RAS, ...)
     std::string radius_array{"MaximumInscribedSphereRadius"};  // ~radius_array: its radius data
     std::string centerline_base{"patient_example"};  // ~centerline_base: devices for a centreline
     double rate_hz{25.0};                            // ~rate: published frames per second [Hz]
@@ -88,6 +90,8 @@ class NavigationNode {
     std::string units;
     std::string radius_array;
     std::string base;
+    std::string frame;
+    std::map<int, std::string> names;  // branch id -> vessel name
   };
   /// Builds a scene and swaps it in; false (message says why, the current
   /// scene goes on) when it cannot be loaded. from_request: a load_scene

@@ -30,6 +30,7 @@ struct DevicePlacementSpec {
   double max_element_length{0.0};
   int max_element_length_line{0};
   int access_point_line{0};  // the scene file's line of access_point (0: none)
+  int inserted_length_line{0};
   bool at_inlet{false};      // `access_point: inlet`: placed by inletIntroducer when built
 };
 
@@ -75,6 +76,8 @@ struct VesselSpec {
   bool present{false};
   std::string centerline_file;  // resolved path: SWC, or VTK PolyData (.vtp, .vtk)
   double units{1e-3};           // [m] per file unit (SWC: without a header; VTK: declared)
+  std::string frame;            // `vessels.frame`: anatomical orientation code ("": the file's)
+  int frame_line{0};
   // A VTK centreline (scene/centerline_vtk.h): the radius array, the tree's
   // tolerances, its inlet and branch names.
   std::string radius_array{"MaximumInscribedSphereRadius"};
@@ -93,6 +96,8 @@ struct SceneSpec {
   double time_step{1e-3};            // [s]
   std::vector<std::string> effects;  // names, validated
   Vec3 gravity{0.0, 0.0, -9.81};     // [m/s^2], used with effect 'gravity'
+  std::string posture;               // `gravity: supine|prone` ("": the vector above)
+  int gravity_line{0};               // of the `gravity` key (0: absent)
   double blood_viscosity{3.5e-3};    // [Pa s], used with effect 'blood_drag'
   double blood_density{1060.0};      // [kg/m^3], used with effect 'blood_drag'
   VesselSpec vessels;

@@ -51,6 +51,12 @@ double shapedLength(const DeviceModel& m);
 /// daughters' lumens hold the first millimetres).
 bool offPlan(const VesselAtlas& atlas, const std::vector<int>& plan, int vessel, const Vec3& tip);
 
+/// Whether `vessel` continues its parent rather than branching off it: it
+/// starts at the parent's end, is the widest of the daughters there, and
+/// goes on within 60 degrees of the parent's direction (the aorta past an
+/// ostium where a segmentation splits it). The catheter does not engage it.
+bool isContinuation(const VesselAtlas& atlas, int vessel);
+
 enum class AutopilotPhase { kAdvance, kAim, kRetract, kDwell, kReached, kFailed };
 const char* phaseName(AutopilotPhase phase);
 

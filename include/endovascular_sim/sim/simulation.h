@@ -62,6 +62,7 @@ struct SceneModel {
   std::shared_ptr<const ImplicitSurface> surface;  // what contacts are solved against
   std::shared_ptr<const VesselAtlas> atlas;        // the named vessels (null: free space)
   std::shared_ptr<const Centerline> centerline;    // the vessels' skeleton (null: free space)
+  std::string frame;  // the vessels' anatomical frame (geometry/patient_frame.h; "": unknown)
   std::vector<AneurysmSpec> aneurysms;             // the domes blended with the vessels
   std::vector<Target> targets;                     // the scene's navigation targets
   XraySpec xray;                                   // the scene's X-ray system (`xray:`)

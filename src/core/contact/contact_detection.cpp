@@ -113,6 +113,23 @@ void keepWallContacts(const ContactProblem& pb, const RootOptions& root, double 
   }
 }
 
+/// The deepest point beyond a wall or lumen over a pass [m], its device and
+/// position (a point outside the field's support has an infinite depth).
+struct DeepestPoint {
+  double depth{0.0};
+  int device{-1};
+  Vec3 point{Vec3::Zero()};
+  void offer(double d, int dev, const Vec3& p) {
+    if (d <= depth) return;
+    depth = d, device = dev, point = p;
+  }
+  void store(ContactStats* st) const {
+    st->max_penetration_m = depth;
+    st->deepest_device = device;
+    st->deepest_point = point;
+  }
+};
+
 /// Effect 'coaxial': a point of an inner device beyond its outer device's
 /// lumen at x.
 struct LumenViolation {
@@ -335,9 +352,9 @@ SurfacePoint planeForViolation(const ContactProblem& pb, const RootOptions& root
 /// The wall's part of the re-detection: every point at x beyond the wall by
 /// more than the tolerance updates its contact's plane (once a step) or
 /// gets a new one. Returns false when a point is violated; *deepest: the
-/// deepest point's depth [m].
+/// deepest point.
 bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFields* field,
-                   int fresh_from, LoopState* s, double* deepest) {
+                   int fresh_from, LoopState* s, DeepestPoint* deepest) {
   const auto& devices = *pb.devices;
   const auto& samples = *pb.samples;
   const RootOptions& root = o.root;
@@ -351,11 +368,11 @@ bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFiel
       double depth_bound = 0.0;
       if (field->endWithinTolerance(d, k, p, sp.radius, pb.motion, o.penetration_tolerance,
                                     &depth_bound)) {
-        *deepest = std::max(*deepest, depth_bound);
+        deepest->offer(depth_bound, static_cast<int>(d), p);
         continue;
       }
       const FieldSample& g = field->end(d, k, p, sp.radius, pb.motion);
-      *deepest = std::max(*deepest, depthOf(g));
+      deepest->offer(depthOf(g), static_cast<int>(d), p);
       if (depthOf(g) <= o.penetration_tolerance) continue;
       solved = false;
       if (s->contact_of[d][k] >= fresh_from) continue;  // just detected: solved first
@@ -399,11 +416,11 @@ bool redetectWalls(const ContactProblem& pb, const ContactOptions& o, SampleFiel
 /// rows and 1.4x the step time on arch_to_right_subclavian). Returns false when a point is beyond;
 /// *deepest grows to its excess [m].
 bool redetectLumen(const ContactProblem& pb, const ContactOptions& o, LoopState* s,
-                   double* deepest) {
+                   DeepestPoint* deepest) {
   bool solved = true;
   for (const LumenViolation& v : lumenViolations(pb, s->x, &s->at_x, o.lumen_tolerance)) {
     solved = false;
-    *deepest = std::max(*deepest, v.location.excess());
+    deepest->offer(v.location.excess(), v.device, s->at_x.at(v.device, v.sample));
     const int existing = s->lumenContactOf(v.device, v.sample);
     if (existing >= 0 && !s->updated[existing]) {
       const Contact fresh = lumenContact(v, outerOf(pb, v.device));
@@ -486,10 +503,10 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
 
 bool redetect(const ContactProblem& pb, const ContactOptions& o, SampleFields* field,
               int fresh_from, LoopState* s, ContactStats* st) {
-  double deepest = 0.0;  // over all points at x: the step's penetration if this is the last loop
+  DeepestPoint deepest;  // over all points at x: the step's penetration if this is the last loop
   bool solved = true;
   if (pb.surface) solved = redetectWalls(pb, o, field, fresh_from, s, &deepest);
-  st->max_penetration_m = deepest;
+  deepest.store(st);
   if (o.device_contact) {
     const auto tp = Clock::now();
     ++st->pair_passes;
@@ -500,7 +517,7 @@ bool redetect(const ContactProblem& pb, const ContactOptions& o, SampleFields* f
     const auto tl = Clock::now();
     ++st->lumen_passes;
     solved = redetectLumen(pb, o, s, &deepest) && solved;
-    st->max_penetration_m = deepest;
+    deepest.store(st);
     st->lumen_ms += msSince(tl);
   }
   return solved;

@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/geometry/patient_frame.h"
 
 namespace evsim {
 
@@ -105,15 +106,21 @@ struct SwcFile {
   std::vector<SwcRow> rows;
   std::vector<SwcVesselStart> starts;
   double unit{1.0};
+  std::string frame;  // its `# frame:` orientation code ("": none)
   int lines{0};
 };
 
-/// A comment's `units:` or `vessel:` (anything else is a comment).
+/// A comment's `units:`, `frame:` or `vessel:` (anything else is a comment).
 void readSwcComment(const std::string& comment_text, const std::string& path, int line,
                     SwcFile* f) {
   std::istringstream comment(comment_text);
   std::string key, value;
   if (comment >> key >> value && key == "units:") f->unit = unitFromName(value, path, line);
+  if (key == "frame:") {
+    const std::string why = frameCodeProblem(value);
+    if (!why.empty()) throw LoadError(path, line, "frame", why);
+    f->frame = value;
+  }
   if (key != "vessel:") return;
   std::string id_text, rest;
   comment >> id_text;
@@ -243,6 +250,7 @@ Centerline loadCenterlineFile(const std::string& path, double default_unit) {
       throw LoadError(path, f.rows[i].line, "id",
                       "id " + std::to_string(f.rows[i].id) + " appears twice");
   Centerline c = swcPoints(f, index, path);
+  c.frame = f.frame;
   c.vessel.assign(c.numPoints(), -1);
   for (const SwcVesselStart& v : f.starts) {
     const auto it = index.find(v.id);
@@ -265,6 +273,7 @@ void saveCenterlineFile(const Centerline& c, const std::string& path, const std:
   std::istringstream lines(comment);
   for (std::string l; std::getline(lines, l);) out << "# " << l << "\n";
   out << "# units: mm\n";
+  if (!c.frame.empty()) out << "# frame: " << c.frame << "\n";
   Centerline named = c;
   nameVessels(&named);
   for (int i = 0; i < named.numPoints(); ++i) {

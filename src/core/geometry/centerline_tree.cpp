@@ -287,6 +287,41 @@ void checkNamedBranches(const std::vector<Branch>& branches, const CenterlineTre
   }
 }
 
+/// The vessel of each branch: its own, or, for a name the options give to
+/// several branches, one vessel for their chain (each the continuation of
+/// the one before: a segmentation splits the arch at every ostium). Fills
+/// the vessel names; throws when a name's branches are no chain.
+std::vector<int> branchVessels(const std::vector<Branch>& branches, const CenterlineTreeOptions& o,
+                               std::vector<std::string>* names) {
+  std::vector<int> vessel_of(branches.size(), -1);
+  std::map<std::string, int> vessel_named;  // name -> vessel
+  std::map<std::string, int> last_of;       // name -> the chain's last branch so far
+  for (size_t bi = 0; bi < branches.size(); ++bi) {
+    const Branch& b = branches[bi];
+    const auto named = o.names.find(b.id);
+    const std::string name =
+        named != o.names.end() ? named->second : "branch_" + std::to_string(b.id);
+    const auto known = vessel_named.find(name);
+    if (known == vessel_named.end()) {
+      vessel_named[name] = static_cast<int>(names->size());
+      last_of[name] = static_cast<int>(bi);
+      vessel_of[bi] = static_cast<int>(names->size());
+      names->push_back(name);
+      continue;
+    }
+    // Branches come parent first: this one must continue the chain's last.
+    const Branch& last = branches[last_of[name]];
+    if (b.parent != last_of[name])
+      throw std::invalid_argument(
+          "names: '" + name + "' names branches " + std::to_string(last.id) + " and " +
+          std::to_string(b.id) + ", which do not follow one another: a vessel named by several " +
+          "branches is a chain, each branch starting where the one before ends");
+    last_of[name] = static_cast<int>(bi);
+    vessel_of[bi] = known->second;
+  }
+  return vessel_of;
+}
+
 }  // namespace
 
 Centerline buildCenterlineTree(const CenterlinePolylines& in, const CenterlineTreeOptions& o,
@@ -320,12 +355,10 @@ Centerline buildCenterlineTree(const CenterlinePolylines& in, const CenterlineTr
   checkNamedBranches(branches, o);
 
   Centerline c;
+  const std::vector<int> vessel_of = branchVessels(branches, o, &c.vessel_names);
   std::vector<int> out_of(g.x.size(), -1), branch_of;
   for (size_t bi = 0; bi < branches.size(); ++bi) {
     const Branch& b = branches[bi];
-    const auto named = o.names.find(b.id);
-    c.vessel_names.push_back(named != o.names.end() ? named->second
-                                                    : "branch_" + std::to_string(b.id));
     report->branch_ids.push_back(b.id);
     const std::vector<double> r = smoothRadii(g, b.v);
     std::vector<char> keep(b.v.size(), 0);
@@ -348,7 +381,7 @@ Centerline buildCenterlineTree(const CenterlinePolylines& in, const CenterlineTr
       c.radius.push_back(r[k]);
       c.parent.push_back(k == 0 ? -1 : up);
       c.type.push_back(0);
-      c.vessel.push_back(static_cast<int>(bi));
+      c.vessel.push_back(vessel_of[bi]);
       branch_of.push_back(static_cast<int>(bi));
     }
   }

@@ -1,15 +1,44 @@
 #include "endovascular_sim/scene/centerline_scene.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 
 #include "endovascular_sim/core/file_path.h"
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/geometry/centerline.h"
+#include "endovascular_sim/geometry/patient_frame.h"
 #include "endovascular_sim/scene/centerline_vtk.h"
 
 namespace evsim {
 
 namespace fs = std::filesystem;
+
+bool parseBranchName(const std::string& entry, std::map<int, std::string>* names,
+                     std::string* why) {
+  const size_t colon = entry.find(':');
+  auto trim = [](std::string s) {
+    const size_t a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
+    return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
+  };
+  const std::string id_text = trim(entry.substr(0, colon));
+  const std::string name = colon == std::string::npos ? "" : trim(entry.substr(colon + 1));
+  char* end = nullptr;
+  const long id = std::strtol(id_text.c_str(), &end, 10);
+  if (colon == std::string::npos || id_text.empty() || *end != '\0' || id < 0 || id > 1000000) {
+    *why = "'" + entry + "' is not 'ID: NAME' (ID a branch id >= 0, as evsim vessels lists)";
+    return false;
+  }
+  if (!isVesselName(name)) {
+    *why = "'" + name + "' is not a vessel name ([a-z][a-z0-9_]*)";
+    return false;
+  }
+  if (!names->emplace(static_cast<int>(id), name).second) {
+    *why = "branch " + id_text + " is named twice";
+    return false;
+  }
+  return true;
+}
 
 bool isCenterlinePath(const std::string& path) {
   return isVtkCenterlinePath(path) || lowerCaseExtension(path) == ".swc";
@@ -43,6 +72,21 @@ SceneSpec centerlineScene(const SceneSpec& base, const CenterlineSceneRequest& r
   if (vtk && r.radius_array.empty())
     throw LoadError(path, 0, "radius_array", "the radius array's name is empty");
   if (!r.radius_array.empty()) v.radius_array = r.radius_array;
+  if (!r.frame.empty()) {
+    const std::string why = frameCodeProblem(r.frame);
+    if (!why.empty()) throw LoadError(path, 0, "frame", why);
+    v.frame = r.frame;
+  }
+  if (!r.names.empty() && !vtk)
+    throw LoadError(path, 0, "names",
+                    "names apply to a VTK centreline; an SWC file names its vessels itself");
+  for (const auto& [id, name] : r.names) {
+    if (id < 0) throw LoadError(path, 0, "names", "branch ids are >= 0");
+    if (!isVesselName(name))
+      throw LoadError(path, 0, "names." + std::to_string(id),
+                      "'" + name + "' is not a vessel name ([a-z][a-z0-9_]*)");
+  }
+  v.tree.names = r.names;
 
   SceneSpec s = base;
   s.file = v.centerline_file;

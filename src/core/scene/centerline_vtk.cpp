@@ -7,11 +7,13 @@
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkFieldData.h>
 #include <vtkGenericDataObjectReader.h>
 #include <vtkIdList.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
 #include <vtkXMLFileReadTester.h>
 #include <vtkXMLPolyDataReader.h>
 
@@ -22,6 +24,7 @@
 
 #include "endovascular_sim/core/file_path.h"
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/geometry/patient_frame.h"
 
 namespace evsim {
 namespace {
@@ -222,6 +225,14 @@ CenterlinePolylines readVtkPolylines(const std::string& path, const VtkCenterlin
     cells.push_back(first_line + c);
   }
   out.branch_id = branchIds(data, cells);
+  // The anatomical frame, when the file declares it: a field-data string
+  // array `frame` holding an orientation code (LPS, RAS, ...).
+  if (auto* frame = vtkStringArray::SafeDownCast(data->GetFieldData()->GetAbstractArray("frame"))) {
+    if (frame->GetNumberOfValues() < 1) fail(path, "its field-data array 'frame' is empty");
+    out.frame = frame->GetValue(0);
+    const std::string why = frameCodeProblem(out.frame);
+    if (!why.empty()) fail(path, "field-data array 'frame': " + why);
+  }
   // Radius checks before the tracts are joined (their gaps are in radii).
   for (vtkIdType i = 0; i < n; ++i)
     if (!(std::isfinite(out.radius[i]) && out.radius[i] > 0.0)) return out;
@@ -233,7 +244,9 @@ Centerline loadVtkCenterline(const std::string& path, const VtkCenterlineOptions
                              CenterlineTreeReport* report) {
   const CenterlinePolylines lines = readVtkPolylines(path, o);
   try {
-    return buildCenterlineTree(lines, o.tree, report);
+    Centerline c = buildCenterlineTree(lines, o.tree, report);
+    c.frame = lines.frame;
+    return c;
   } catch (const std::invalid_argument& e) {
     fail(path, e.what());
   }

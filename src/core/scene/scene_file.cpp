@@ -24,7 +24,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+constexpr double kMinTimeStep = 1e-6;       // [s] a million steps per simulated second
 constexpr double kMaxTimeStep = 0.04;       // [s] one step per 25 Hz frame
+constexpr double kMaxGravity = 1000.0;      // [m/s^2] 100 g
 constexpr double kMaxDuration = 3600.0;     // [s] a scripted procedure
 constexpr double kMinElementLength = 1e-5;  // [m] max_element_length's floor
 constexpr double kMaxDeviceElements = 1e5;  // per device, after refinement
@@ -141,6 +143,7 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
   }
   const DeviceModel model = buildDeviceModel(d.device);
   d.inserted_length = r.number(n, "inserted_length", p, 0.0);
+  if (n["inserted_length"]) d.inserted_length_line = n["inserted_length"].Mark().line + 1;
   // The device's length is a sum of its sections': a full insertion written
   // as the nominal length may exceed it by round-off.
   if (d.inserted_length < 0.0 || d.inserted_length > model.length * (1.0 + kLengthTolerance))
@@ -444,6 +447,26 @@ void readDevices(const YamlReader& r, const YAML::Node& root, const fs::path& sc
     r.fail(root["effects"], "effects", "'coaxial' needs a device with 'inside: OUTER'");
 }
 
+/// `gravity: [x, y, z]` [m/s^2] (at most 1000 m/s^2, 100 g), or `supine` /
+/// `prone`: 9.81 m/s^2 toward the patient's posterior / anterior in the
+/// vessels' anatomical frame (resolved when the scene is built).
+void readGravity(const YamlReader& r, const YAML::Node& n, SceneSpec* s) {
+  s->gravity_line = n.Mark().line + 1;
+  if (n.IsScalar() && (n.Scalar() == "supine" || n.Scalar() == "prone")) {
+    s->posture = n.Scalar();
+    return;
+  }
+  if (n.IsScalar())
+    r.fail(n, "gravity", "'" + n.Scalar() + "' is not [x, y, z] m/s^2, supine or prone");
+  s->gravity = r.vector3(n, "gravity");
+  if (!(s->gravity.norm() <= kMaxGravity)) {
+    std::ostringstream why;
+    why << "is " << s->gravity.norm() << " m/s^2, above " << kMaxGravity
+        << " m/s^2 (100 g); the earth's is 9.81";
+    r.fail(n, "gravity", why.str());
+  }
+}
+
 SceneSpec readScene(const YamlReader& r) {
   const std::string& path = r.file();
   const YAML::Node root = r.load();
@@ -461,11 +484,11 @@ SceneSpec readScene(const YamlReader& r) {
   s.name = r.text(r.required(root, "name", "name"), "name");
   if (root["description"]) s.description = r.text(root["description"], "description");
   s.time_step = r.number(r.required(root, "time_step", "time_step"), "time_step");
-  if (!(s.time_step > 0.0 && s.time_step <= kMaxTimeStep))
-    r.fail(root["time_step"], "time_step", "must lie in (0, 0.04] s");
+  if (!(s.time_step >= kMinTimeStep && s.time_step <= kMaxTimeStep))
+    r.fail(root["time_step"], "time_step", "must lie in [1e-6, 0.04] s");
 
   if (root["effects"]) s.effects = readEffects(r, root["effects"]);
-  if (root["gravity"]) s.gravity = r.vector3(root["gravity"], "gravity");
+  if (root["gravity"]) readGravity(r, root["gravity"], &s);
   s.blood_viscosity = r.number(root, "blood_viscosity", "", s.blood_viscosity);
   if (!(s.blood_viscosity > 0.0 && s.blood_viscosity <= 0.1))
     r.fail(root["blood_viscosity"], "blood_viscosity", "must lie in (0, 0.1] Pa s");
@@ -555,17 +578,25 @@ std::pair<int, std::string> elementLimitViolation(const SceneSpec& spec) {
 }  // namespace
 
 std::string sceneLimitViolation(const SceneSpec& spec) {
-  if (!(spec.time_step > 0.0 && spec.time_step <= kMaxTimeStep)) {
+  if (!(spec.time_step >= kMinTimeStep && spec.time_step <= kMaxTimeStep)) {
     std::ostringstream why;
-    why << "time step " << spec.time_step << " s outside (0, 0.04] s";
+    why << "time step " << spec.time_step << " s outside [1e-6, 0.04] s";
+    return why.str();
+  }
+  if (!(spec.gravity.norm() <= kMaxGravity)) {
+    std::ostringstream why;
+    why << "gravity of " << spec.gravity.norm() << " m/s^2, above " << kMaxGravity
+        << " m/s^2 (100 g)";
     return why.str();
   }
   return elementLimitViolation(spec).second;
 }
 
 void checkSceneLimits(const SceneSpec& spec) {
-  if (!(spec.time_step > 0.0 && spec.time_step <= kMaxTimeStep))
+  if (!(spec.time_step >= kMinTimeStep && spec.time_step <= kMaxTimeStep))
     throw LoadError(spec.file, 0, "time_step", sceneLimitViolation(spec));
+  if (!(spec.gravity.norm() <= kMaxGravity))
+    throw LoadError(spec.file, spec.gravity_line, "gravity", sceneLimitViolation(spec));
   const auto [device, why] = elementLimitViolation(spec);
   if (device >= 0) {
     const DevicePlacementSpec& d = spec.devices[device];

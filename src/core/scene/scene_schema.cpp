@@ -39,7 +39,7 @@ std::vector<SchemaEntry> makeSchema() {
   return {
       Key("name", T::kText, "the scene's name (evsim list, the node's /stats)").req(),
       Key("description", T::kText, "one line on what the scene shows"),
-      Key("time_step", T::kNumber, "the simulation's step").unit("s").req().in("(]", 0, 0.04),
+      Key("time_step", T::kNumber, "the simulation's step").unit("s").req().in("[]", 1e-6, 0.04),
       Key("duration", T::kNumber,
           "the scripted procedure's length: what `evsim run` and `evsim bench` step by default "
           "(at least time_step)")
@@ -49,9 +49,13 @@ std::vector<SchemaEntry> makeSchema() {
       Key("effects", T::kList, "what the scene simulates; anything else is off and costs nothing")
           .def("[]"),
       Key("effects[]", T::kChoice, "an effect (see below)").choices(effects),
-      Key("gravity", T::kVector3, "gravity, used with the effect 'gravity'")
+      Key("gravity", T::kVector3,
+          "gravity, used with the effect 'gravity' (at most 1000 m/s^2); `supine` or `prone`: "
+          "9.81 m/s^2 toward the patient's posterior or anterior in the vessels' frame")
           .unit("m/s^2")
-          .def("[0, 0, -9.81]"),
+          .def("supine when the vessels' frame is known, else [0, 0, -9.81]")
+          .orAlso(T::kChoice)
+          .choices({"supine", "prone"}),
       Key("blood_viscosity", T::kNumber,
           "the still blood's viscosity, used with the effect 'blood_drag' (docs/model.md)")
           .unit("Pa s")
@@ -73,6 +77,11 @@ std::vector<SchemaEntry> makeSchema() {
           "the file's length unit: of an SWC without a '# units:' header; required for VTK")
           .choices({"m", "cm", "mm", "um"})
           .def("mm (SWC)"),
+      Key("vessels.frame", T::kText,
+          "the file's anatomical frame: where +x, +y, +z point in the patient (L/R, A/P, S/I; "
+          "e.g. LPS, RAS); an SWC's '# frame:' line or a VTK file's field-data string 'frame' "
+          "declares it too")
+          .def("the file's"),
       Key("vessels.blend", T::kNumber,
           "alpha of the convolution surface: kernel width = radius / alpha")
           .def("0.6")

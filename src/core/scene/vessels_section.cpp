@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/geometry/patient_frame.h"
 #include "endovascular_sim/scene/centerline_scene.h"
 #include "endovascular_sim/scene/centerline_vtk.h"
 #include "scene_sections.h"
@@ -42,11 +43,9 @@ void readBranchNames(const YamlReader& r, const YAML::Node& names, CenterlineTre
     if (!isVesselName(name))
       r.fail(kv.second, "vessels.names." + std::to_string(id),
              "'" + name + "' is not a vessel name ([a-z][a-z0-9_]*)");
-    for (const auto& [other, taken] : tree->names)
-      if (taken == name)
-        r.fail(kv.second, "vessels.names." + std::to_string(id),
-               "'" + name + "' also names branch " + std::to_string(other));
-    tree->names[id] = name;
+    if (tree->names.count(id))
+      r.fail(kv.first, "vessels.names", "branch " + std::to_string(id) + " is named twice");
+    tree->names[id] = name;  // a name given twice names a chain: checked with the tree
   }
 }
 
@@ -130,8 +129,8 @@ VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path&
   VesselSpec v;
   v.present = true;
   r.keys(n, "vessels",
-         {"centerline", "units", "blend", "network", "aneurysms", "motion", "radius_array",
-          "tolerance", "radius_tolerance", "inlet", "names"});
+         {"centerline", "units", "frame", "blend", "network", "aneurysms", "motion",
+          "radius_array", "tolerance", "radius_tolerance", "inlet", "names"});
   const fs::path file =
       r.text(r.required(n, "centerline", "vessels.centerline"), "vessels.centerline");
   v.centerline_file = (file.is_absolute() ? file : scene_dir / file).lexically_normal().string();
@@ -143,6 +142,12 @@ VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path&
            "a VTK centreline needs its units declared (m, cm, mm or um): SimVascular models are "
            "in cm, most VMTK output in mm");
   if (n["units"]) v.units = readUnits(r, n["units"]);
+  if (n["frame"]) {
+    v.frame = r.text(n["frame"], "vessels.frame");
+    v.frame_line = n["frame"].Mark().line + 1;
+    const std::string why = frameCodeProblem(v.frame);
+    if (!why.empty()) r.fail(n["frame"], "vessels.frame", why);
+  }
   readVtkOptions(r, n, vtk, &v);
   v.field.alpha = r.number(n, "blend", "vessels.", 0.6);
   if (!(v.field.alpha >= 0.3 && v.field.alpha <= 0.95))

@@ -166,13 +166,17 @@ Autopilot::Aim Autopilot::aimFor(const SceneModel& model, const SimData& data, i
   // passed): turn toward it when it is the path's, away from it otherwise.
   double best = 1e9;
   for (int child : here.children) {
+    // The parent's continuation is where a tip goes anyway: it turns away
+    // from the other daughters there, as from a side branch's ostium.
+    if (child == next && isContinuation(atlas, child)) continue;
     const NamedVessel& c = atlas.vessels()[child];
     const double ahead = (c.origin_depth - at.depth) * sign;
     const double window = here.radius + options_.approach_distance;
     if (ahead > window || ahead < -(c.radius + 0.003)) continue;
     // The nearest; of a bifurcation's two (at one depth), the path's.
     const double distance = std::abs(ahead);
-    if (distance > best + 1e-6 || (distance >= best - 1e-6 && child != next)) continue;
+    if (distance > best + 1e-6 || (distance >= best - 1e-6 && child != next && aim.toward_path))
+      continue;
     best = distance;
     Vec3 start_dir;
     const Vec3 start = atlas.pointAt(child, 0.0, &start_dir);

@@ -22,6 +22,25 @@ bool isTerminalBranch(const VesselAtlas& atlas, int vessel) {
 }
 }  // namespace
 
+bool isContinuation(const VesselAtlas& atlas, int vessel) {
+  const NamedVessel& v = atlas.vessels()[vessel];
+  if (v.parent < 0) return false;
+  const NamedVessel& parent = atlas.vessels()[v.parent];
+  if (v.origin_depth < parent.length - 1e-4) return false;  // from the parent's side
+  for (int sibling : parent.children) {
+    const NamedVessel& s = atlas.vessels()[sibling];
+    if (sibling != vessel && s.origin_depth >= parent.length - 1e-4 && s.radius > v.radius)
+      return false;  // a wider daughter continues the parent
+  }
+  // And it goes on the way the parent went (within 60 degrees).
+  Vec3 end_dir, start_dir;
+  atlas.pointAt(v.parent, parent.length, &end_dir);
+  const Vec3 start = atlas.pointAt(vessel, 0.0);
+  const Vec3 ahead = atlas.pointAt(vessel, std::min(v.length, 2.0 * parent.radius));
+  start_dir = (ahead - start).normalized();
+  return end_dir.dot(start_dir) > 0.5;
+}
+
 /// What the screen shows of the pair at the branch it engages.
 struct Autopilot::PairView {
   const SceneModel& model;
@@ -69,7 +88,7 @@ bool Autopilot::choosePairBranch(const SceneModel& model, const SimData& data,
     const size_t from_index = static_cast<size_t>(cath_on_plan - plan.begin());
     int host = -1, branch = -1;
     for (size_t i = from_index; i + 1 < plan.size() && branch < 0; ++i)
-      if (atlas.vessels()[plan[i + 1]].parent == plan[i]) {
+      if (atlas.vessels()[plan[i + 1]].parent == plan[i] && !isContinuation(atlas, plan[i + 1])) {
         host = plan[i];
         branch = plan[i + 1];
         const double from = i == from_index ? data.tips[follow_].depth

@@ -7,7 +7,9 @@
 #include <sstream>
 
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/geometry/patient_frame.h"
 #include "endovascular_sim/mechanics/blood_drag.h"
+#include "endovascular_sim/sim/initial_placement.h"
 #include "endovascular_sim/sim/simulation.h"
 
 namespace evsim {
@@ -45,6 +47,17 @@ void checkAccessPoints(const SceneSpec& spec, const VesselField* vessels) {
     throw LoadError(spec.file, d.access_point_line,
                     "devices[" + std::to_string(i) + "].access_point", why.str());
   }
+}
+
+/// Every device's inserted length fits inside the lumen as it is placed
+/// (sim/initial_placement.h); refused with the length that fits.
+void checkPlacement(const SceneSpec& spec, const SceneModel& m) {
+  std::vector<DeviceState> placed;
+  int bad = -1;
+  const std::string why = placeDevices(m, &placed, &bad);
+  if (why.empty()) return;
+  throw LoadError(spec.file, spec.devices[bad].inserted_length_line,
+                  "devices[" + std::to_string(bad) + "].inserted_length", why);
 }
 
 /// Devices that overlap as they are placed (effect 'device_contact': two
@@ -201,6 +214,51 @@ std::vector<Target> resolveTargets(const SceneSpec& spec, const VesselAtlas* atl
   return out;
 }
 
+/// The vessels' anatomical frame: the scene's `vessels.frame`, else the
+/// file's declaration ("": neither); refused when the two disagree.
+std::string anatomicalFrame(const SceneSpec& spec, const Centerline& centerline) {
+  const std::string& declared = spec.vessels.frame;
+  if (!declared.empty() && !centerline.frame.empty() && declared != centerline.frame)
+    throw LoadError(spec.file, spec.vessels.frame_line, "vessels.frame",
+                    "'" + declared + "' contradicts the frame '" + centerline.frame + "' that " +
+                        spec.vessels.centerline_file + " declares");
+  return declared.empty() ? centerline.frame : declared;
+}
+
+/// Gravity [m/s^2] of a scene with vessels: `supine` / `prone` toward the
+/// frame's posterior / anterior (unset: supine when the frame is known); a
+/// vector as given, with a warning when the frame is known and the vector
+/// leans more than 30 degrees off the posterior-anterior axis.
+Vec3 sceneGravity(const SceneSpec& spec, const std::string& frame,
+                  std::vector<std::string>* warnings) {
+  constexpr double kStandardGravity = 9.81;  // [m/s^2]
+  // Unset: a patient on the table lies supine, when the frame says where.
+  const std::string posture = spec.posture.empty() && spec.gravity_line == 0 && !frame.empty()
+                                  ? std::string("supine")
+                                  : spec.posture;
+  if (!posture.empty()) {
+    if (frame.empty())
+      throw LoadError(spec.file, spec.gravity_line, "gravity",
+                      "'" + posture + "' needs the vessels' anatomical frame: " +
+                          spec.vessels.centerline_file +
+                          " declares none; give vessels.frame (the orientation code of its "
+                          "axes, e.g. LPS as DICOM and ITK write, RAS as 3D Slicer does)");
+    const double sign = posture == "supine" ? 1.0 : -1.0;
+    return sign * kStandardGravity * posteriorDirection(frame);
+  }
+  const Vec3 posterior = frame.empty() ? Vec3::Zero() : posteriorDirection(frame);
+  const double g = spec.gravity.norm();
+  if (!frame.empty() && g > 0.0 && std::abs(spec.gravity.dot(posterior)) < std::cos(M_PI / 6) * g) {
+    std::ostringstream w;
+    w << spec.file << ":" << spec.gravity_line << ": gravity [" << spec.gravity.transpose()
+      << "] m/s^2 is not along the patient's posterior [" << posterior.transpose()
+      << "] in the vessels' frame " << frame
+      << ": a patient on the table, supine or prone, has it there (gravity: supine)";
+    warnings->push_back(w.str());
+  }
+  return spec.gravity;
+}
+
 }  // namespace
 
 SceneModel buildSceneModel(const SceneSpec& file_spec) {
@@ -225,12 +283,22 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
       m.effects.coaxial = true;
     else if (e == "blood_drag")
       m.effects.blood_drag = true;
-  if (m.effects.gravity) m.gravity = spec.gravity;
   std::shared_ptr<VesselField> field;  // tabulated once the devices' radii are known
+  if (!spec.vessels.present && !spec.posture.empty())
+    throw LoadError(spec.file, spec.gravity_line, "gravity",
+                    "'" + spec.posture + "' needs vessels: their frame says where posterior is; " +
+                        "free space takes a vector [x, y, z] m/s^2");
+  if (m.effects.gravity) m.gravity = spec.gravity;
   if (spec.vessels.present) {
     const Centerline centerline = buildCenterline(spec.vessels, &m.warnings);
+    m.frame = anatomicalFrame(spec, centerline);
+    if (m.effects.gravity) m.gravity = sceneGravity(spec, m.frame, &m.warnings);
     for (DevicePlacementSpec& d : spec.devices)
       if (d.at_inlet) d.introducer = inletIntroducer(centerline);
+    // A device inside another enters through that one's introducer, known
+    // only now for an outer device at the inlet.
+    for (DevicePlacementSpec& d : spec.devices)
+      if (d.outer >= 0) d.introducer = spec.devices[d.outer].introducer;
     field = std::make_shared<VesselField>(
         centerline, spec.vessels.aneurysms,
         m.effects.vessel_motion ? spec.vessels.motion : std::vector<MotionRegion>{},
@@ -263,6 +331,7 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
   if (field) field->tabulateHessianBounds(sampleRadii(m.samples));
   m.script = spec.script;
   m.duration = spec.duration;
+  checkPlacement(spec, m);
   if (m.effects.device_contact) checkDeviceOverlaps(spec, m);
   return m;
 }

@@ -6,12 +6,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <deque>
 #include <limits>
 #include <sstream>
 
 #include "endovascular_sim/contact/coaxial.h"
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/sim/initial_placement.h"
 #include "endovascular_sim/geometry/root_finding.h"
 
 namespace evsim {
@@ -46,7 +48,8 @@ void applyScript(const SceneModel& model, SimData* data) {
 }
 
 /// Why the contacts of a (sub-)step were not solved, and the knob that helps.
-std::string unsolvedContacts(const ContactOptions& o, const ContactStats& cs) {
+std::string unsolvedContacts(const SceneModel& model, const ContactStats& cs) {
+  const ContactOptions& o = model.contact;
   std::ostringstream why;
   if (cs.lcp_status == LcpStatus::kInfeasible || cs.lcp_status == LcpStatus::kUnsolved) {
     why << "the contact problem of " << cs.contacts << " contacts "
@@ -61,6 +64,16 @@ std::string unsolvedContacts(const ContactOptions& o, const ContactStats& cs) {
         << " on " << cs.contacts << " contacts (residual " << cs.lcp_residual
         << " m) in activation loop " << cs.activation_loops
         << ": use the status method (solver: status) or raise lcp_max_iterations";
+  } else if (!std::isfinite(cs.max_penetration_m)) {
+    // Beyond the field's support: no depth to report, only where it is.
+    const Vec3 at = cs.deepest_point * 1e3;
+    why << "contacts not solved in " << cs.activation_loops << " activation loops: a point of "
+        << "device '"
+        << (cs.deepest_device >= 0 ? model.devices[cs.deepest_device].name : std::string("?"))
+        << "' lies outside the vessel tree, at (" << at.x() << ", " << at.y() << ", " << at.z()
+        << ") mm, with " << cs.contacts
+        << " contacts: it left the lumen between two steps (a device placed or driven "
+           "through the wall)";
   } else {
     why << "contacts not solved in " << cs.activation_loops << " activation loops: the deepest "
         << "point is " << cs.max_penetration_m * 1e6 << " um beyond the wall (tolerance "
@@ -172,7 +185,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     data->effect_calls.coaxial += cs.lumen_passes;
     if (!solved) {
       data->contacts.swap(previous);  // a subdivided step starts from them again
-      data->last_error = unsolvedContacts(model.contact, cs);
+      data->last_error = unsolvedContacts(model, cs);
       return StepStatus::kContactsUnsolved;
     }
     addResults(cs, &data->stats);
@@ -413,16 +426,7 @@ VesselLocation locateInVessels(const SceneModel& model, const SimData& data, con
 SimData makeData(const SceneModel& model) {
   SimData d;
   const size_t n = model.devices.size();
-  for (size_t i = 0; i < n; ++i) {
-    const int outer = model.outer_of.empty() ? -1 : model.outer_of[i];
-    if (outer >= 0)  // listed after its outer device (the loader checks)
-      d.devices.push_back(placeInside(model.devices[i], model.introducers[i],
-                                      model.initial_inserted_length[i], model.initial_rotation[i],
-                                      model.devices[outer], d.devices[outer]));
-    else
-      d.devices.push_back(placeDevice(model.devices[i], model.introducers[i],
-                                      model.initial_inserted_length[i], model.initial_rotation[i]));
-  }
+  placeDevices(model, &d.devices);  // a length that does not fit was refused at load
   d.commands.assign(n, DriveCommand{});
   d.notices = model.warnings;  // runners print them with the first step's notices
   d.workspaces = std::vector<DeviceWorkspace>(n);
