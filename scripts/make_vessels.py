@@ -70,13 +70,16 @@ class Tree:
     def point(self, pid):
         return self.rows[pid - 1][2:5]
 
-    def write(self, path, comment):
+    def write(self, path, comment, frame="LAS"):
         with open(path, "w") as f:
             for line in comment.strip().splitlines():
                 f.write(f"# {line}\n")
             f.write("# units: mm\n")
-            # x toward the patient's left, y anterior, z superior (supine: -y down)
-            f.write("# frame: LAS\n")
+            # the anatomical frame: LAS, x toward the patient's left, y anterior,
+            # z superior (supine: -y down); LSA for a segment lying in the
+            # axial plane (supine: -z down)
+            if frame:  # (the arch's: none, see config/scenes/README.md)
+                f.write(f"# frame: {frame}\n")
             for name, first in self.names:
                 f.write(f"# vessel: {name} {first}\n")
             f.write("# id type x y z radius parent\n")
@@ -119,7 +122,7 @@ def carotid():
              "left_external_carotid")
     t.vessel([t.point(on_arch(115)), (30, -6, 55), (50, -3, 66), (80, 0, 64)], 4.5, 4.2,
              on_arch(115), 3, "left_subclavian")
-    t.write(OUT / "carotid.swc", """
+    t.write(OUT / "carotid.swc", frame=None, comment="""
 Aortic arch with its three branches, carotid bifurcations included. Written by
 scripts/make_vessels.py (see its header for the dimensions and their sources).
 Types: 1 aorta, 2 brachiocephalic trunk, 3 subclavian, 4 common carotid,
@@ -138,7 +141,7 @@ def aneurysm():
 Internal carotid segment (siphon-like C curve), 4.4 mm lumen. The saccular
 aneurysm (7 mm dome) is a sphere primitive declared in
 config/scenes/aneurysm.yaml. Written by scripts/make_vessels.py.
-""")
+""", frame="LSA")
 
 
 def dead_end():
@@ -166,7 +169,7 @@ def tortuous():
 A 4 mm vessel through four tight bends (centreline bend radius about 3 mm,
 close to the 2 mm vessel radius), for the stability suite. Written by
 scripts/make_vessels.py.
-""")
+""", frame="LSA")
 
 
 if __name__ == "__main__":

@@ -48,6 +48,7 @@ from endovascular_sim._core import (  # noqa: E402,F401
     shipped_scenes,
     state_text,
     step,
+    write_arch,
 )
 
 try:

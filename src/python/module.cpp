@@ -31,4 +31,5 @@ PYBIND11_MODULE(_core, m) {
   evsim::python::bindAutopilot(m);
   evsim::python::bindImaging(m);
   evsim::python::bindRollout(m);
+  evsim::python::bindAnatomy(m);
 }

@@ -56,5 +56,6 @@ void bindStep(py::module_& m);
 void bindAutopilot(py::module_& m);
 void bindImaging(py::module_& m);
 void bindRollout(py::module_& m);
+void bindAnatomy(py::module_& m);
 
 }  // namespace evsim::python

@@ -295,8 +295,11 @@ void NavigationNode::onCommand(const endovascular_sim::DeviceCommand& msg) {
   }
   if (msg.mode != endovascular_sim::DeviceCommand::VELOCITY &&
       msg.mode != endovascular_sim::DeviceCommand::POSITION) {
-    ROS_WARN_STREAM("command refused: mode " << int(msg.mode) << " is neither VELOCITY (0), "
-                                             << "POSITION (1) nor DETACH (2)");
+    ++refused_commands_;
+    ROS_WARN_STREAM_THROTTLE(1.0, "command refused: mode "
+                                      << int(msg.mode) << " is neither VELOCITY (0), "
+                                      << "POSITION (1) nor DETACH (2) (" << refused_commands_
+                                      << " commands refused since the start)");
     return;
   }
   DriveCommand cmd;
@@ -305,7 +308,13 @@ void NavigationNode::onCommand(const endovascular_sim::DeviceCommand& msg) {
   cmd.insertion = msg.insertion;
   cmd.rotation = msg.rotation;
   const std::string why = loop_.setCommand(msg.device, cmd);
-  if (!why.empty()) ROS_WARN_STREAM("command refused for '" << msg.device << "': " << why);
+  if (why.empty()) return;
+  // At most one line a second however fast they come (a runaway client
+  // would flood /rosout), with the count of all refused.
+  ++refused_commands_;
+  ROS_WARN_STREAM_THROTTLE(1.0, "command refused for '" << msg.device << "': " << why << " ("
+                                                        << refused_commands_
+                                                        << " commands refused since the start)");
 }
 
 void NavigationNode::onJoy(const sensor_msgs::Joy& msg) {

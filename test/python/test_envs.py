@@ -8,9 +8,9 @@ from gymnasium.utils.env_checker import check_env
 
 import endovascular_sim as evs  # registers the ids
 from endovascular_sim.envs.navigation import NavigationEnv
-from endovascular_sim.envs.registration import ENVIRONMENTS
+from endovascular_sim.envs.registration import ARCH_VARIETY, ENVIRONMENTS
 
-IDS = sorted(ENVIRONMENTS)
+IDS = sorted(ENVIRONMENTS) + [ARCH_VARIETY]
 SHORT = dict(control_interval=0.012)  # CathSim's interval: short episodes for the checkers
 
 
@@ -137,3 +137,17 @@ def test_bad_input_names_what_is_wrong_and_what_exists():
         make("endovascular_sim/Navigation-v0", scene="no_such_scene")
     obs, *_ = env.step(np.zeros(4, np.float32))  # and it steps on
     assert np.all(np.isfinite(obs))
+
+
+def test_arch_variety_draws_a_reproducible_arch_per_episode(tmp_path):
+    env = make(ARCH_VARIETY, folder=str(tmp_path)).unwrapped
+    first, info = env.reset(seed=11)
+    arches = {info["arch"]}
+    for _ in range(3):
+        arches.add(env.reset()[1]["arch"])
+    assert len(arches) > 1  # a new arch per episode
+    again, info_again = env.reset(seed=11)
+    assert info_again["arch"] == info["arch"]
+    assert np.array_equal(first, again)
+    # The files of one arch at a time stay.
+    assert len(list(tmp_path.glob("*.vtp"))) == 1

@@ -315,13 +315,13 @@ class NavigationNodeTest(unittest.TestCase):
         self.assertIn('vessels.frame', res.message)
         # names that are no chain: refused, naming the branches
         res = self.load_centerline(centerline=vtp, units='mm', radius_array='', base_scene='',
-                                   frame='LAS', names=['6: arch', '8: arch'])
+                                   frame='LAS', names=['6: arch', '9: arch'])
         self.assertFalse(res.success)
         self.assertIn('do not follow one another', res.message)
         # with its units and frame: the base scene's guidewire at the widest end, the arch
         # that the file splits at its ostia named as one vessel
         res = self.load_centerline(centerline=vtp, units='mm', radius_array='', base_scene='',
-                                   frame='LAS', names=['8: aortic_arch', '10: aortic_arch'])
+                                   frame='LAS', names=['9: aortic_arch', '11: aortic_arch'])
         self.assertTrue(res.success, res.message)
         self.wait_for(lambda: self.stats.scene == 'example_patient', 'example_patient stats')
         self.wait_for(lambda: self.device_names() == ['guidewire'], 'the guidewire')

@@ -27,6 +27,7 @@
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 
+#include <atomic>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -127,6 +128,7 @@ class NavigationNode {
   std::unique_ptr<ros::AsyncSpinner> load_spinner_;
   std::mutex publisher_mutex_;  // publisher_ between the timers and a scene swap
   std::mutex load_mutex_;       // one scene load at a time
+  std::atomic<long> refused_commands_{0};  // malformed commands, logged at most once a second
   int slow_seconds_{0};         // consecutive seconds below real time
   ros::WallTimer publish_timer_, progress_timer_;
   ros::WallTime last_publish_;

@@ -52,8 +52,9 @@ double shapedLength(const DeviceModel& m);
 bool offPlan(const VesselAtlas& atlas, const std::vector<int>& plan, int vessel, const Vec3& tip);
 
 /// Whether `vessel` continues its parent rather than branching off it: it
-/// starts at the parent's end, is the widest of the daughters there, and
-/// goes on within 60 degrees of the parent's direction (the aorta past an
+/// starts at the parent's end, keeps 70 % of the parent's radius, every
+/// other daughter there is under two thirds of its own, and it goes on
+/// within 60 degrees of the parent's direction (the aorta past an
 /// ostium where a segmentation splits it). The catheter does not engage it.
 bool isContinuation(const VesselAtlas& atlas, int vessel);
 

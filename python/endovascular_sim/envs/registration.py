@@ -11,6 +11,7 @@ ENVIRONMENTS = {
         scene="network_navigation", targets=branch_targets),
     "endovascular_sim/Navigation-v0": dict(),  # any scene file: gymnasium.make(id, scene=PATH)
 }
+ARCH_VARIETY = "endovascular_sim/ArchVariety-v0"  # a generated arch per episode
 
 
 def register_environments():
@@ -23,3 +24,7 @@ def register_environments():
             vector_entry_point="endovascular_sim.envs.vector:NavigationVectorEnv",
             kwargs=kwargs,
         )
+    if ARCH_VARIETY not in gymnasium.registry:
+        gymnasium.register(id=ARCH_VARIETY,
+                           entry_point="endovascular_sim.envs.arch_variety:ArchVarietyEnv",
+                           kwargs=dict(reset_rotation=3.141592653589793))

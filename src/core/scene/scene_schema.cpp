@@ -144,7 +144,8 @@ std::vector<SchemaEntry> makeSchema() {
       Key("devices[].up", T::kVector3, "fixes the introducer frame's z axis").def("[0, 0, 1]"),
       Key("devices[].inserted_length", T::kNumber,
           "inserted at the start, at most its length (within a relative 1e-9: a full "
-          "insertion written as the nominal length is valid)")
+          "insertion written as the nominal length is valid); laid along the vessels' path "
+          "where its rest shape would leave the lumen, refused with the length that fits")
           .unit("m")
           .def("0")
           .in("[]", 0, 1000),

@@ -187,6 +187,26 @@ Autopilot::Aim Autopilot::aimFor(const SceneModel& model, const SimData& data, i
     aim.direction = aim.toward_path ? dir : Vec3(-dir);
     aim.distance = std::abs(ahead);
   }
+  // Toward the origin of a vessel that starts at its parent's end (a
+  // patient's file splits the aorta there): its siblings leave at that
+  // fork, and the tip turns away from the nearest of them.
+  if (!aim.wanted && next == here.parent && next >= 0) {
+    const NamedVessel& parent = atlas.vessels()[next];
+    const double window = here.radius + options_.approach_distance;
+    for (int sibling : parent.children) {
+      const NamedVessel& c = atlas.vessels()[sibling];
+      if (sibling == at.vessel || std::abs(c.origin_depth - here.origin_depth) > 1e-6 ||
+          at.depth > window || at.depth > best)
+        continue;
+      best = at.depth;
+      const Vec3 start = atlas.pointAt(sibling, 0.0);
+      const Vec3 out = atlas.pointAt(sibling, std::min(c.length, 1.5 * parent.radius + 0.005));
+      aim.wanted = true;
+      aim.toward_path = false;
+      aim.direction = -(out - start).normalized();
+      aim.distance = at.depth;
+    }
+  }
   return aim;
 }
 

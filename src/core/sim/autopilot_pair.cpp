@@ -27,10 +27,15 @@ bool isContinuation(const VesselAtlas& atlas, int vessel) {
   if (v.parent < 0) return false;
   const NamedVessel& parent = atlas.vessels()[v.parent];
   if (v.origin_depth < parent.length - 1e-4) return false;  // from the parent's side
+  // The parent's calibre goes on in it, and every other daughter there is a
+  // side branch (under two thirds of its radius): not a bifurcation of
+  // peers, as the trunk's into the subclavian and the carotid.
+  if (v.radius < 0.7 * parent.radius) return false;
   for (int sibling : parent.children) {
     const NamedVessel& s = atlas.vessels()[sibling];
-    if (sibling != vessel && s.origin_depth >= parent.length - 1e-4 && s.radius > v.radius)
-      return false;  // a wider daughter continues the parent
+    if (sibling != vessel && s.origin_depth >= parent.length - 1e-4 &&
+        s.radius > (2.0 / 3.0) * v.radius)
+      return false;
   }
   // And it goes on the way the parent went (within 60 degrees).
   Vec3 end_dir, start_dir;

@@ -34,12 +34,14 @@ double beyondAccess(const DeviceModel& m, double inserted_length, int i) {
   return m.node_s[i] - (m.length - inserted_length);
 }
 
-/// Whether every node of `s` beyond arc `from` lies inside the lumen.
+/// Whether every node of `s` beyond arc `from` lies in the lumen: its axis
+/// inside the wall (a node pressed into the wall by less than its radius
+/// is pushed back by the first step's contacts, as a device at rest is).
 bool insideLumen(const SceneModel& model, int device, const DeviceState& s, double from) {
   const DeviceModel& m = model.devices[device];
   for (int i = 0; i < m.num_nodes; ++i)
     if (beyondAccess(m, s.inserted_length, i) > from &&
-        model.vessels->evaluate(s.position[i], m.node_radius[i]).value < 0.0)
+        model.vessels->evaluate(s.position[i], 0.0).value < 0.0)
       return false;
   return true;
 }
