@@ -215,11 +215,11 @@ int benchNavigation(const NavigationBenchOptions& o) {
     for (size_t i = next++; i < cases.size(); i = next++) {
       const Case& c = cases[i];
       const auto t0 = std::chrono::steady_clock::now();
-      const SceneModel model = loadScene(c.scene);  // its own: nothing shared between jobs
-      SimData data = makeData(model);
       AutopilotOptions options;
       options.timeout = o.timeout;
-      try {
+      try {  // (a scene refused is that run's reason: the benchmark goes on)
+        const SceneModel model = loadScene(c.scene);  // its own: nothing shared between jobs
+        SimData data = makeData(model);
         out[i].report = runAutopilot(model, &data, c.target, c.device, options);
       } catch (const LoadError& e) {
         out[i].report.reason = std::string("refused: ") + e.what();

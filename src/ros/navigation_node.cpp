@@ -112,13 +112,7 @@ NavigationNode::NavigationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<endovascular_sim::SolverConfig>>(
       reconfigure_mutex_, private_nh_);
   std::string message;
-  SceneRequest initial;
-  initial.scene = params_.scene;
-  initial.units = params_.units;
-  initial.radius_array = params_.radius_array;
-  initial.base = params_.centerline_base;
-  initial.frame = params_.anatomical_frame;
-  if (!loadSceneNamed(initial, &message, /*from_request=*/false))
+  if (!loadSceneNamed(requestFor(params_.scene), &message, /*from_request=*/false))
     throw std::runtime_error(message);
   reconfigure_->setCallback(
       [this](endovascular_sim::SolverConfig& c, uint32_t level) { onReconfigure(c, level); });
@@ -338,16 +332,21 @@ void NavigationNode::onJoy(const sensor_msgs::Joy& msg) {
   }
 }
 
-bool NavigationNode::onLoadScene(endovascular_sim::LoadScene::Request& req,
-                                 endovascular_sim::LoadScene::Response& res) {
-  std::lock_guard<std::mutex> one_at_a_time(load_mutex_);
-  // A centreline given here takes its units from ~units, read now.
+NavigationNode::SceneRequest NavigationNode::requestFor(const std::string& scene) const {
   SceneRequest r;
-  r.scene = req.scene;
+  r.scene = scene;
   r.units = params_.units;
   r.radius_array = params_.radius_array;
   r.base = params_.centerline_base;
   r.frame = params_.anatomical_frame;
+  return r;
+}
+
+bool NavigationNode::onLoadScene(endovascular_sim::LoadScene::Request& req,
+                                 endovascular_sim::LoadScene::Response& res) {
+  std::lock_guard<std::mutex> one_at_a_time(load_mutex_);
+  // A centreline given here takes its units from ~units, read now.
+  SceneRequest r = requestFor(req.scene);
   private_nh_.getParam("units", r.units);
   res.success = loadSceneNamed(r, &res.message, /*from_request=*/true);
   return true;

@@ -94,6 +94,9 @@ class NavigationNode {
     std::string frame;
     std::map<int, std::string> names;  // branch id -> vessel name
   };
+  /// A request for `scene` with the parameters' units, radius array, base
+  /// and frame (for a centreline).
+  SceneRequest requestFor(const std::string& scene) const;
   /// Builds a scene and swaps it in; false (message says why, the current
   /// scene goes on) when it cannot be loaded. from_request: a load_scene
   /// request, whose path must lie in the allowed folders.

@@ -101,20 +101,17 @@ ArchScenes writeArchScenes(const ArchParameters& p, const std::string& dir) {
   ArchScenes out;
   out.centerline = (fs::path(dir) / (stem + ".vtp")).string();
   writeVmtkCenterline(c, out.centerline);
-  // The femoral access: the descending aorta, 13 cm below the arch's end.
+  // The femoral access: the descending aorta, 4 cm above its end (its
+  // straight part, 13 cm below the arch's end).
   const int desc = [&] {
     for (size_t v = 0; v < c.vessel_names.size(); ++v)
       if (c.vessel_names[v] == "descending_aorta") return static_cast<int>(v);
     return -1;
   }();
-  Vec3 top = Vec3::Zero(), bottom = Vec3::Zero();
-  bool first = true;
-  for (int i = 0; i < c.numPoints(); ++i) {
-    if (c.vessel[i] != desc) continue;
-    if (first) top = c.position[i], first = false;
-    bottom = c.position[i];
-  }
-  const Vec3 access = top + 0.13 * (bottom - top).normalized();
+  Vec3 bottom = Vec3::Zero();
+  for (int i = 0; i < c.numPoints(); ++i)
+    if (c.vessel[i] == desc) bottom = c.position[i];
+  const Vec3 access = bottom + Vec3(0.0, 0.0, 0.04);
   const std::map<int, std::string> names = branchNames(c, out.centerline);
   std::map<std::string, std::vector<std::string>> targets_of;  // catheter -> targets
   for (const std::string& t : archTargets(p)) targets_of[archCatheter(p, t)].push_back(t);

@@ -189,7 +189,7 @@ Autopilot::Aim Autopilot::aimFor(const SceneModel& model, const SimData& data, i
   }
   // Toward the origin of a vessel that starts at its parent's end (a
   // patient's file splits the aorta there): its siblings leave at that
-  // fork, and the tip turns away from the nearest of them.
+  // fork; the tip turns toward the path's if one is, else away from them.
   if (!aim.wanted && next == here.parent && next >= 0) {
     const NamedVessel& parent = atlas.vessels()[next];
     const double window = here.radius + options_.approach_distance;
@@ -198,12 +198,14 @@ Autopilot::Aim Autopilot::aimFor(const SceneModel& model, const SimData& data, i
       if (sibling == at.vessel || std::abs(c.origin_depth - here.origin_depth) > 1e-6 ||
           at.depth > window || at.depth > best)
         continue;
+      const bool on_path = path.size() > 2 && path[2] == sibling;
+      if (aim.wanted && aim.toward_path && !on_path) continue;
       best = at.depth;
       const Vec3 start = atlas.pointAt(sibling, 0.0);
       const Vec3 out = atlas.pointAt(sibling, std::min(c.length, 1.5 * parent.radius + 0.005));
       aim.wanted = true;
-      aim.toward_path = false;
-      aim.direction = -(out - start).normalized();
+      aim.toward_path = on_path;
+      aim.direction = (on_path ? 1.0 : -1.0) * (out - start).normalized();
       aim.distance = at.depth;
     }
   }
