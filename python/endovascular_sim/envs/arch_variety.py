@@ -50,8 +50,8 @@ class ArchVarietyEnv(NavigationEnv):
 
     def _draw_and_load(self, next_seed, attempts=10):
         """Loads the arch of the next seed; an arch whose files the loader
-        refuses (a draw the generator cannot mesh: a limitation named in
-        docs/limitations.md) gives way to the next seed's."""
+        refuses gives way to the next seed's (an episode never fails on a
+        draw)."""
         for _ in range(attempts):
             arch = evs.write_arch(next_seed(), self._folder, **self._draw)
             try:
