@@ -278,6 +278,19 @@ void NavigationNode::onProgressTimer(const ros::WallTimerEvent&) {
   ROS_INFO_STREAM(line.str());
 }
 
+void NavigationNode::logRefusal(const std::string& what) {
+  // A new reason at once; the same one again at most once a second,
+  // however fast it comes (a runaway client would flood /rosout), with the
+  // count of all refused.
+  std::lock_guard<std::mutex> lock(refusal_mutex_);
+  ++refused_commands_;
+  const ros::WallTime now = ros::WallTime::now();
+  if (what == last_refusal_ && (now - last_refusal_log_).toSec() < 1.0) return;
+  last_refusal_ = what;
+  last_refusal_log_ = now;
+  ROS_WARN_STREAM(what << " (" << refused_commands_ << " commands refused since the start)");
+}
+
 void NavigationNode::onCommand(const endovascular_sim::DeviceCommand& msg) {
   if (msg.mode == endovascular_sim::DeviceCommand::DETACH) {
     const std::string why = loop_.detach(msg.device);
@@ -289,11 +302,8 @@ void NavigationNode::onCommand(const endovascular_sim::DeviceCommand& msg) {
   }
   if (msg.mode != endovascular_sim::DeviceCommand::VELOCITY &&
       msg.mode != endovascular_sim::DeviceCommand::POSITION) {
-    ++refused_commands_;
-    ROS_WARN_STREAM_THROTTLE(1.0, "command refused: mode "
-                                      << int(msg.mode) << " is neither VELOCITY (0), "
-                                      << "POSITION (1) nor DETACH (2) (" << refused_commands_
-                                      << " commands refused since the start)");
+    logRefusal("command refused: mode " + std::to_string(int(msg.mode)) +
+               " is neither VELOCITY (0), POSITION (1) nor DETACH (2)");
     return;
   }
   DriveCommand cmd;
@@ -302,13 +312,7 @@ void NavigationNode::onCommand(const endovascular_sim::DeviceCommand& msg) {
   cmd.insertion = msg.insertion;
   cmd.rotation = msg.rotation;
   const std::string why = loop_.setCommand(msg.device, cmd);
-  if (why.empty()) return;
-  // At most one line a second however fast they come (a runaway client
-  // would flood /rosout), with the count of all refused.
-  ++refused_commands_;
-  ROS_WARN_STREAM_THROTTLE(1.0, "command refused for '" << msg.device << "': " << why << " ("
-                                                        << refused_commands_
-                                                        << " commands refused since the start)");
+  if (!why.empty()) logRefusal("command refused for '" + msg.device + "': " + why);
 }
 
 void NavigationNode::onJoy(const sensor_msgs::Joy& msg) {

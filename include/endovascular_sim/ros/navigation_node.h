@@ -27,7 +27,6 @@
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 
-#include <atomic>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -94,6 +93,9 @@ class NavigationNode {
     std::string frame;
     std::map<int, std::string> names;  // branch id -> vessel name
   };
+  /// Logs a refused command: a new reason at once, a repeated one at most
+  /// once a second, each with the count refused so far.
+  void logRefusal(const std::string& what);
   /// A request for `scene` with the parameters' units, radius array, base
   /// and frame (for a centreline).
   SceneRequest requestFor(const std::string& scene) const;
@@ -131,7 +133,10 @@ class NavigationNode {
   std::unique_ptr<ros::AsyncSpinner> load_spinner_;
   std::mutex publisher_mutex_;  // publisher_ between the timers and a scene swap
   std::mutex load_mutex_;       // one scene load at a time
-  std::atomic<long> refused_commands_{0};  // malformed commands, logged at most once a second
+  std::mutex refusal_mutex_;  // guards the three below
+  long refused_commands_{0};  // malformed commands since the start
+  std::string last_refusal_;  // the last logged, and when: a repeat waits a second
+  ros::WallTime last_refusal_log_;
   int slow_seconds_{0};         // consecutive seconds below real time
   ros::WallTimer publish_timer_, progress_timer_;
   ros::WallTime last_publish_;
