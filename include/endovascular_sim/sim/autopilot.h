@@ -104,6 +104,7 @@ class Autopilot {
     Vec3 direction{Vec3::Zero()};  // where the bent tip should point
     double distance{0.0};          // [m] from the tip to the ostium that asks it
     bool toward_path{false};       // the ostium is the next vessel of the path
+    bool toward_parent{false};     // ... the parent, its course back from a fork of daughters
   };
   /// Where a device's bent tip should point: toward the next vessel of
   /// `path` (from its tip) near its ostium, away from other ostia near them.
@@ -163,6 +164,10 @@ class Autopilot {
   std::string retryWhy(const VesselAtlas& atlas, const std::vector<int>& plan,
                        const std::vector<int>& path, const VesselLocation& at, const Vec3& tip,
                        double remaining, double t, double* pull) const;
+  /// The inserted length [m] a retry pulls the lead back to: `inserted`,
+  /// but never below half its length at the start (a retry that would pull
+  /// the devices out of the body tries again from there).
+  double retractFloor(double inserted) const;
   void drive(const SceneModel& model, SimData* data, double insertion_speed, double rotation);
   void fail(const std::string& why, double t);
 
@@ -175,6 +180,7 @@ class Autopilot {
   AutopilotPhase phase_{AutopilotPhase::kAdvance};
   AutopilotReport report_;
   double start_time_{0.0};
+  double start_inserted_{0.0};  // [m] the lead's inserted length at the start
   double next_tick_{0.0};
   double retract_until_{0.0};  // [m] inserted length to pull back to
   double best_remaining_{1e9};

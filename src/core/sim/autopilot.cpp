@@ -94,6 +94,7 @@ Autopilot::Autopilot(const SceneModel& model, const SimData& data, const std::st
            atlas.vessels()[entry_vessel_].name + "', where the tip of device '" +
            model.devices[lead_].name + "' is");
   start_time_ = data.time;
+  start_inserted_ = data.devices.at(lead_).inserted_length;
   next_tick_ = data.time;
   progress_time_ = data.time;
   current_vessel_ = entry_vessel_;
@@ -102,6 +103,10 @@ Autopilot::Autopilot(const SceneModel& model, const SimData& data, const std::st
   goal_depth_ = requiredDepth(atlas.vessels()[target_], options_.depth);
   report_.remaining_path =
       atlas.pathLength(atlas.path(entry_vessel_, target_), data.tips.at(lead_).depth, goal_depth_);
+}
+
+double Autopilot::retractFloor(double inserted) const {
+  return std::max(inserted, 0.5 * start_inserted_);
 }
 
 std::string Autopilot::setPhase(AutopilotPhase phase, const std::string& why, double t) {
@@ -188,26 +193,35 @@ Autopilot::Aim Autopilot::aimFor(const SceneModel& model, const SimData& data, i
     aim.distance = std::abs(ahead);
   }
   // Toward the origin of a vessel that starts at its parent's end (a
-  // patient's file splits the aorta there): its siblings leave at that
-  // fork; the tip turns toward the path's if one is, else away from them.
-  if (!aim.wanted && next == here.parent && next >= 0) {
+  // patient's file rooted upstream, at the aortic root, splits the aorta
+  // there): its siblings leave at that fork. The tip turns toward the
+  // path's sibling if one is, else toward the parent's own course back
+  // from the fork (the arch's, past the subclavian's ostium): turning away
+  // from a sibling that leaves straight ahead asks for no sideways turn.
+  if (!aim.wanted && next == here.parent && next >= 0 && at.depth <= best &&
+      at.depth <= here.radius + options_.approach_distance) {
     const NamedVessel& parent = atlas.vessels()[next];
-    const double window = here.radius + options_.approach_distance;
+    const double reach = 1.5 * parent.radius + 0.005;
+    bool fork = false;
     for (int sibling : parent.children) {
       const NamedVessel& c = atlas.vessels()[sibling];
-      if (sibling == at.vessel || std::abs(c.origin_depth - here.origin_depth) > 1e-6 ||
-          at.depth > window || at.depth > best)
-        continue;
-      const bool on_path = path.size() > 2 && path[2] == sibling;
-      if (aim.wanted && aim.toward_path && !on_path) continue;
-      best = at.depth;
-      const Vec3 start = atlas.pointAt(sibling, 0.0);
-      const Vec3 out = atlas.pointAt(sibling, std::min(c.length, 1.5 * parent.radius + 0.005));
-      aim.wanted = true;
-      aim.toward_path = on_path;
-      aim.direction = (on_path ? 1.0 : -1.0) * (out - start).normalized();
-      aim.distance = at.depth;
+      if (sibling == at.vessel || std::abs(c.origin_depth - here.origin_depth) > 1e-6) continue;
+      fork = true;
+      if (path.size() > 2 && path[2] == sibling) {
+        aim.direction =
+            (atlas.pointAt(sibling, std::min(c.length, reach)) - atlas.pointAt(sibling, 0.0))
+                .normalized();
+        aim.toward_parent = false;
+        break;
+      }
+      aim.direction = (atlas.pointAt(next, std::max(0.0, here.origin_depth - reach)) -
+                       atlas.pointAt(next, here.origin_depth))
+                          .normalized();
+      aim.toward_parent = true;
     }
+    aim.wanted = fork;
+    aim.toward_path = fork;
+    aim.distance = at.depth;
   }
   return aim;
 }
@@ -374,7 +388,7 @@ std::string Autopilot::steerLead(const SceneModel& model, SimData* data,
       drive(model, data, 0.0, 0.0);
       return "t=" + std::to_string(t) + " s  failed: " + report_.reason;
     }
-    retract_until_ = std::max(0.0, lead.inserted_length - pull);
+    retract_until_ = retractFloor(lead.inserted_length - pull);
     progress_time_ = t;
     best_remaining_ = 1e9;
     drive(model, data, -options_.retract_speed, rotation);

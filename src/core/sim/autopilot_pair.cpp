@@ -100,7 +100,13 @@ bool Autopilot::choosePairBranch(const SceneModel& model, const SimData& data,
                             : atlas.vessels()[plan[i - 1]].parent == host
                                 ? atlas.vessels()[plan[i - 1]].origin_depth
                                 : 0.0;
-        if (branch != branch_) travel_ = atlas.vessels()[branch].origin_depth >= from ? 1.0 : -1.0;
+        // Toward the ostium; from a sibling at the host's end (the tree
+        // rooted upstream of the access: a patient's file rooted at the
+        // aortic root), away from that end.
+        const double ostium = atlas.vessels()[branch].origin_depth;
+        const bool from_end = i > from_index && std::abs(ostium - from) < 1e-6 &&
+                              ostium >= atlas.vessels()[host].length - 1e-4;
+        if (branch != branch_) travel_ = !from_end && ostium >= from ? 1.0 : -1.0;
       }
     // The catheter is in the target, no turn is left, or the next branch is
     // too narrow for the catheter (less than outer_fit times its radius): the wire
@@ -143,11 +149,12 @@ std::string Autopilot::controlPair(const SceneModel& model, SimData* data,
              data->tips[follow_]};
   // How far the catheter's tip is past the branch's ostium along the host.
   // (In a vessel branching off the host at the same junction: its depth.)
+  // (In the vessel it came from, at that junction: before it by its depth.)
   if (v.cath_at.vessel == host_)
     v.cath_past = (v.cath_at.depth - v.branch.origin_depth) * travel_;
   else if (atlas.vessels()[v.cath_at.vessel].parent == host_ &&
            std::abs(atlas.vessels()[v.cath_at.vessel].origin_depth - v.branch.origin_depth) < 1e-6)
-    v.cath_past = v.cath_at.depth;
+    v.cath_past = v.beyond(host_, v.cath_at.vessel) ? -v.cath_at.depth : v.cath_at.depth;
   v.wire_off_plan = offPlan(atlas, v.plan, v.wire_at.vessel, v.wire.position.back());
   v.out = (atlas.pointAt(branch_, std::min(v.branch.length, 1.5 * v.host.radius + 0.005)) -
            atlas.pointAt(branch_, 0.0))
@@ -257,7 +264,7 @@ std::string Autopilot::leadStage(const PairView& v) {
     // At a bifurcation the catheter's shaped tip leads next: the wire is
     // drawn into it before the fork, the catheter engages the branch.
     catheter_leads_ = v.terminal;
-    retract_until_ = std::max(0.0, v.wire.inserted_length - v.wire_at.depth - v.host.radius - 0.01);
+    retract_until_ = retractFloor(v.wire.inserted_length - v.wire_at.depth - v.host.radius - 0.01);
     return stageTo(PairStage::kBackOut, "back out of " + atlas.vessels()[v.wire_at.vessel].name,
                    v.t);
   }
@@ -280,9 +287,19 @@ std::string Autopilot::leadStage(const PairView& v) {
   if (steer && aim.toward_path) turn = searchTurn(turn);
   const std::vector<int> cath_path = atlas.path(v.cath_at.vessel, target_);
   const Aim cath_aim = aimFor(v.model, *v.data, follow_, cath_path);
-  const double cath_turn = cath_aim.wanted && !cath_aim.toward_path
-                               ? tipBendAngle(v.model, *v.data, follow_, cath_aim.direction)
-                               : 0.0;
+  double cath_turn = cath_aim.wanted && !cath_aim.toward_path
+                         ? tipBendAngle(v.model, *v.data, follow_, cath_aim.direction)
+                         : 0.0;
+  // At a fork of daughters met from one of them (up the descending aorta to
+  // the subclavian's ostium) the parent's course runs nearly along the
+  // shafts: no bend can be aimed at it. After a miss both tips are turned
+  // together by an eighth of a turn more at each retry, as a hand searches,
+  // until the pair takes the parent.
+  if (aim.toward_parent && report_.retries > 0) {
+    const double hand = report_.retries * 0.25 * M_PI;
+    turn = std::remainder(hand - v.wire.rotation_angle, 2 * M_PI);
+    cath_turn = std::remainder(hand - v.cath.rotation_angle, 2 * M_PI);
+  }
   // Near a bifurcation's branch of the path: turn first, then advance.
   const bool hold = steer && aim.toward_path && std::abs(turn) > options_.aim_tolerance;
   command(v.model, v.data, lead_, kVel, turningPace(hold, v.t) * options_.advance_speed,
@@ -324,7 +341,7 @@ std::string Autopilot::engageStage(const PairView& v) {
   if (!v.onPlan(v.cath_at.vessel)) {  // the catheter took the sibling: back out, and again
     const std::string failed = retryOrFail(not_engaged, v.t);
     if (!failed.empty()) return failed;
-    retract_until_ = std::max(0.0, v.wire.inserted_length - v.cath_at.depth - 0.015);
+    retract_until_ = retractFloor(v.wire.inserted_length - v.cath_at.depth - 0.015);
     return stageTo(PairStage::kBackOut,
                    "catheter in " + atlas.vessels()[v.cath_at.vessel].name + "; back out", v.t);
   }
@@ -333,7 +350,7 @@ std::string Autopilot::engageStage(const PairView& v) {
     // ostium, and the wire leads toward it again (wire_selects_).
     const std::string failed = retryOrFail(not_engaged, v.t);
     if (!failed.empty()) return failed;
-    retract_until_ = std::max(0.0, v.wire.inserted_length - std::max(0.0, v.cath_past) - 0.015);
+    retract_until_ = retractFloor(v.wire.inserted_length - std::max(0.0, v.cath_past) - 0.015);
     return stageTo(PairStage::kBackOut,
                    "the catheter does not engage " + v.branch.name + "; the wire tries it", v.t);
   }
