@@ -269,6 +269,15 @@ TEST(EvsimCli, AStepTheScenesOptionsCannotSolveIsRecoveredOrFailsWithStrict) {
   const Outcome recovered = evsim("run " + scene + " --steps 600");
   EXPECT_EQ(recovered.code, 0) << recovered.output;
   EXPECT_TRUE(says(recovered, "solved with the recovery options")) << recovered.output;
+  EXPECT_TRUE(says(strict, "use the status method")) << strict.output;
+  // Its advice names what is not set already: with the status method it
+  // does not advise the status method.
+  const std::string status = (dir / "status_one_pivot.yaml").string();
+  writeSceneCopy("carotid_selective", "contact:\n  solver: status\n  max_iterations: 1\n", status);
+  const Outcome pivot = evsim("run " + status + " --steps 600 --strict");
+  EXPECT_EQ(pivot.code, 1) << pivot.output;
+  EXPECT_TRUE(says(pivot, "raise contact.max_iterations (now 1)")) << pivot.output;
+  EXPECT_FALSE(says(pivot, "use the status method")) << pivot.output;
   fs::remove_all(dir);
 }
 

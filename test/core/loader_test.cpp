@@ -128,6 +128,14 @@ TEST_F(Loader, NegativeRadiusIsNamed) {
       "wire.urdf", 6, "link[shaft]/cylinder/radius", "must be positive");
 }
 
+TEST_F(Loader, AVisualCylinderBesideTheCollisionOneIsCheckedToo) {
+  expectNames(deviceError("</collision>\n  </link>\n  <link name=\"tip\">",
+                          "</collision>\n    <visual><geometry><cylinder radius=\"-0.001\" "
+                          "length=\"0.3\"/></geometry></visual>\n  </link>\n  <link "
+                          "name=\"tip\">"),
+              "wire.urdf", 7, "link[shaft]/visual/geometry/cylinder/radius", "must be positive");
+}
+
 TEST_F(Loader, NanIsNamed) {
   expectNames(deviceError("young_modulus=\"2e10\"", "young_modulus=\"nan\""), "wire.urdf", 16,
               "evsim_section[tip]/young_modulus", "must be finite");

@@ -125,7 +125,7 @@ TEST_F(Loader, InletAccessNeedsVesselsAndTakesNoDirection) {
               "follows the centreline");
 }
 
-TEST_F(Loader, AWireAimedAcrossItsVesselAndANetworkThatCannotGrowAreWarned) {
+TEST_F(Loader, AWireAimedAcrossItsVesselIsWarnedAndANetworkThatCannotGrowRefused) {
   // The carotid tree's descending aorta runs along z: entering along x, the
   // wire meets the wall 12 mm ahead.
   std::string text = carotidScene("[0.025, -0.020, -0.130]");
@@ -143,8 +143,11 @@ TEST_F(Loader, AWireAimedAcrossItsVesselAndANetworkThatCannotGrowAreWarned) {
   text.replace(
       text.find("vessels: {centerline: " + swc + "}"), swc.size() + 23,
       "vessels: {centerline: " + swc + ", network: {seed: 1, vessels: 10, min_radius: 0.05}}");
-  const SceneModel none = buildSceneModel(loadSceneFile(write("network.yaml", text)));
-  EXPECT_TRUE(warned(none, "grew 0 of 10 vessels"));
+  const int line =
+      1 + static_cast<int>(std::count(text.begin(), text.begin() + text.find("vessels: {"), '\n'));
+  const LoadError none = errorFor(text, "network.yaml", "", "",
+                                  [](const std::string& p) { buildSceneModel(loadSceneFile(p)); });
+  expectNames(none, "network.yaml", line, "vessels.network.vessels", "only 0 of the 10 vessels");
 }
 
 TEST_F(Loader, SleepOptionsAreChecked) {

@@ -31,7 +31,7 @@ struct DevicePlacementSpec {
   int max_element_length_line{0};
   int access_point_line{0};  // the scene file's line of access_point (0: none)
   int inserted_length_line{0};
-  bool at_inlet{false};      // `access_point: inlet`: placed by inletIntroducer when built
+  bool at_inlet{false};  // `access_point: inlet`: placed by inletIntroducer when built
 };
 
 /// A navigation target (`targets:`; see sim/targets.h).
@@ -78,6 +78,7 @@ struct VesselSpec {
   double units{1e-3};           // [m] per file unit (SWC: without a header; VTK: declared)
   std::string frame;            // `vessels.frame`: anatomical orientation code ("": the file's)
   int frame_line{0};
+  int network_line{0};  // of vessels.network.vessels (0: none)
   // A VTK centreline (scene/centerline_vtk.h): the radius array, the tree's
   // tolerances, its inlet and branch names.
   std::string radius_array{"MaximumInscribedSphereRadius"};
@@ -120,8 +121,11 @@ struct SceneSpec {
 Introducer inletIntroducer(const Centerline& centerline);
 
 /// Warnings about a usable but suspect tree (a VTK centreline's dropped
-/// pieces, crowded branches) go to *warnings when given.
-Centerline buildCenterline(const VesselSpec& spec, std::vector<std::string>* warnings = nullptr);
+/// pieces, crowded branches) go to *warnings when given. A network that
+/// cannot grow the vessels asked for is a LoadError naming `scene_file`
+/// (default: the centreline file), its line and how many fit.
+Centerline buildCenterline(const VesselSpec& spec, std::vector<std::string>* warnings = nullptr,
+                           const std::string& scene_file = "");
 VesselField buildVesselField(const VesselSpec& spec, bool with_motion);
 
 /// Effects a scene may name.

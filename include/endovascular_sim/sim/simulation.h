@@ -3,7 +3,7 @@
 //
 //   apply commands     insertion / rotation targets -> held proximal nodes
 //   move vessels       only with the effect 'vessel_motion'
-//   free motion        A dq_f = f (A = M/dt^2 + D/dt + K, CHOLMOD)
+//   free motion        A dq_f = f (A = M/dt^2 + D/dt + K, block LDL^T: ChainFactor)
 //   contacts           detection, status method, activation loop
 //                      (contact/contact_solver.h); not solved after N loops:
 //   subdivide          redo the step as two halves, recursively
@@ -63,9 +63,9 @@ struct SceneModel {
   std::shared_ptr<const VesselAtlas> atlas;        // the named vessels (null: free space)
   std::shared_ptr<const Centerline> centerline;    // the vessels' skeleton (null: free space)
   std::string frame;  // the vessels' anatomical frame (geometry/patient_frame.h; "": unknown)
-  std::vector<AneurysmSpec> aneurysms;             // the domes blended with the vessels
-  std::vector<Target> targets;                     // the scene's navigation targets
-  XraySpec xray;                                   // the scene's X-ray system (`xray:`)
+  std::vector<AneurysmSpec> aneurysms;  // the domes blended with the vessels
+  std::vector<Target> targets;          // the scene's navigation targets
+  XraySpec xray;                        // the scene's X-ray system (`xray:`)
   ContactOptions contact;
   SleepOptions sleep;                             // off with the effect 'vessel_motion'
   std::vector<std::vector<SamplePoint>> samples;  // contact sample points per device

@@ -131,6 +131,17 @@ DeviceSectionSpec readSection(const std::string& path, const TiXmlElement* robot
   AttributeReader cyl(path, cylinder, where + "cylinder/");
   sec.section.outer_radius = cyl.positive("radius");
   sec.length = cyl.positive("length");
+  // The other geometry (a visual beside the collision) is checked too: a
+  // negative or zero radius anywhere in the file is an error, not ignored.
+  for (const char* kind : {"collision", "visual"}) {
+    const TiXmlElement* e = link->FirstChildElement(kind);
+    const TiXmlElement* g = e ? e->FirstChildElement("geometry") : nullptr;
+    const TiXmlElement* other = g ? g->FirstChildElement("cylinder") : nullptr;
+    if (!other || other == cylinder) continue;
+    AttributeReader o(path, other, where + kind + "/geometry/cylinder/");
+    o.positive("radius");
+    o.positive("length");
+  }
 
   const TiXmlElement* inertial = link->FirstChildElement("inertial");
   const TiXmlElement* mass = inertial ? inertial->FirstChildElement("mass") : nullptr;

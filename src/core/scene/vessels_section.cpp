@@ -83,6 +83,7 @@ void readNetwork(const YamlReader& r, const YAML::Node& g, VesselSpec* v) {
     r.fail(g["vessels"], "vessels.network.vessels", "must be a whole number in [0, 100000]");
   v->network.seed = static_cast<uint64_t>(seed);
   v->network.vessels = static_cast<int>(count);
+  v->network_line = g["vessels"].Mark().line + 1;
   v->network.min_radius = r.number(g, "min_radius", "vessels.network.", v->network.min_radius);
   if (!(v->network.min_radius > 0.0))
     r.fail(g["min_radius"], "vessels.network.min_radius", "must be positive");
@@ -129,8 +130,8 @@ VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path&
   VesselSpec v;
   v.present = true;
   r.keys(n, "vessels",
-         {"centerline", "units", "frame", "blend", "network", "aneurysms", "motion",
-          "radius_array", "tolerance", "radius_tolerance", "inlet", "names"});
+         {"centerline", "units", "frame", "blend", "network", "aneurysms", "motion", "radius_array",
+          "tolerance", "radius_tolerance", "inlet", "names"});
   const fs::path file =
       r.text(r.required(n, "centerline", "vessels.centerline"), "vessels.centerline");
   v.centerline_file = (file.is_absolute() ? file : scene_dir / file).lexically_normal().string();
@@ -193,7 +194,8 @@ Introducer inletIntroducer(const Centerline& c) {
   return intro;
 }
 
-Centerline buildCenterline(const VesselSpec& spec, std::vector<std::string>* warnings) {
+Centerline buildCenterline(const VesselSpec& spec, std::vector<std::string>* warnings,
+                           const std::string& scene_file) {
   Centerline c;
   if (isVtkCenterlinePath(spec.centerline_file)) {
     CenterlineTreeReport report;
@@ -207,15 +209,16 @@ Centerline buildCenterline(const VesselSpec& spec, std::vector<std::string>* war
   }
   if (spec.grow_network) {
     const int grown = growNetwork(spec.network, &c);
-    if (grown < spec.network.vessels && warnings) {
+    if (grown < spec.network.vessels) {
       const Eigen::AlignedBox3d& box = spec.network.growth_box;
       std::ostringstream w;
-      w << spec.centerline_file << ": vessels.network grew " << grown << " of "
-        << spec.network.vessels << " vessels: only leaves of the tree inside the growth box ("
+      w << "only " << grown << " of the " << spec.network.vessels << " vessels asked for fit on "
+        << spec.centerline_file << ": ask for at most that many, or a smaller min_radius (now "
+        << spec.network.min_radius * 1e3 << " mm; only leaves of the tree inside the growth box ("
         << box.min().transpose() * 1e3 << ") to (" << box.max().transpose() * 1e3
-        << ") mm, wider than min_radius " << spec.network.min_radius * 1e3
-        << " mm, grow, and a new vessel may not cross another";
-      warnings->push_back(w.str());
+        << ") mm and wider than it grow, and a new vessel may not cross another)";
+      throw LoadError(scene_file.empty() ? spec.centerline_file : scene_file, spec.network_line,
+                      "vessels.network.vessels", w.str());
     }
   }
   return c;

@@ -239,8 +239,8 @@ Vec3 sceneGravity(const SceneSpec& spec, const std::string& frame,
   if (!posture.empty()) {
     if (frame.empty())
       throw LoadError(spec.file, spec.gravity_line, "gravity",
-                      "'" + posture + "' needs the vessels' anatomical frame: " +
-                          spec.vessels.centerline_file +
+                      "'" + posture +
+                          "' needs the vessels' anatomical frame: " + spec.vessels.centerline_file +
                           " declares none; give vessels.frame (the orientation code of its "
                           "axes, e.g. LPS as DICOM and ITK write, RAS as 3D Slicer does)");
     const double sign = posture == "supine" ? 1.0 : -1.0;
@@ -290,7 +290,7 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
                         "free space takes a vector [x, y, z] m/s^2");
   if (m.effects.gravity) m.gravity = spec.gravity;
   if (spec.vessels.present) {
-    const Centerline centerline = buildCenterline(spec.vessels, &m.warnings);
+    const Centerline centerline = buildCenterline(spec.vessels, &m.warnings, spec.file);
     m.frame = anatomicalFrame(spec, centerline);
     if (m.effects.gravity) m.gravity = sceneGravity(spec, m.frame, &m.warnings);
     for (DevicePlacementSpec& d : spec.devices)
