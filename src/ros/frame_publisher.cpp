@@ -96,7 +96,8 @@ void FramePublisher::setScene(const SceneModel& model, std::shared_ptr<const Sur
   }
 }
 
-void FramePublisher::publish(const FrameSnapshot& f, const LoopTiming& timing, int driven) {
+void FramePublisher::publish(const FrameSnapshot& f, const LoopTiming& timing, int driven,
+                             long refused_commands) {
   std_msgs::Header header;
   header.frame_id = frame_id_;
   header.stamp = clockAt(f.time);
@@ -108,7 +109,7 @@ void FramePublisher::publish(const FrameSnapshot& f, const LoopTiming& timing, i
       clock_pub_.publish(clock);
     }
   }
-  stats_pub_.publish(toStepStatsMsg(f, timing, header));
+  stats_pub_.publish(toStepStatsMsg(f, timing, refused_commands, header));
   contacts_pub_.publish(toContactArrayMsg(f, header));
   states_pub_.publish(toDeviceStatusMsg(f, driven, header));
   for (size_t i = 0; i < path_pubs_.size() && i < f.devices.size(); ++i) {
@@ -167,7 +168,8 @@ void FramePublisher::sendVesselMesh(const ros::SingleSubscriberPublisher& subscr
 }
 
 void FramePublisher::publishDiagnostics(const FrameSnapshot& f, const LoopTiming& timing,
-                                        double publish_rate_hz, const std::string& last_error) {
+                                        double publish_rate_hz, const std::string& last_error,
+                                        long refused_commands) {
   diagnostic_msgs::DiagnosticStatus s;
   s.name = ros::this_node::getName() + ": simulation loop";
   s.hardware_id = f.model->name;
@@ -195,6 +197,7 @@ void FramePublisher::publishDiagnostics(const FrameSnapshot& f, const LoopTiming
   s.values.push_back(keyValue("overruns (total)", static_cast<double>(timing.overruns)));
   s.values.push_back(keyValue("simulated time [s]", f.time));
   s.values.push_back(keyValue("contacts", f.stats.contacts));
+  s.values.push_back(keyValue("refused commands (total)", static_cast<double>(refused_commands)));
   for (size_t i = 0; f.model->atlas && i < f.tips.size(); ++i) {
     diagnostic_msgs::KeyValue kv;
     kv.key = f.model->devices[i].name + " tip in";

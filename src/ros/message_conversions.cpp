@@ -42,7 +42,7 @@ geometry_msgs::Pose toPose(const Vec3& p, const Quat& q) {
 }
 
 endovascular_sim::StepStats toStepStatsMsg(const FrameSnapshot& f, const LoopTiming& timing,
-                                           const std_msgs::Header& header) {
+                                           long refused_commands, const std_msgs::Header& header) {
   const StepStats& s = f.stats;
   endovascular_sim::StepStats m;
   m.header = header;
@@ -58,6 +58,7 @@ endovascular_sim::StepStats toStepStatsMsg(const FrameSnapshot& f, const LoopTim
   m.delassus_ms = s.delassus_ms;
   m.lcp_ms = s.lcp_ms;
   m.correction_ms = s.correction_ms;
+  m.curvature_ms = s.curvature_ms;
   m.vessel_motion_ms = s.vessel_motion_ms;
   m.device_contact_ms = s.device_contact_ms;
   m.coaxial_ms = s.coaxial_ms;
@@ -73,6 +74,7 @@ endovascular_sim::StepStats toStepStatsMsg(const FrameSnapshot& f, const LoopTim
   m.steps_per_frame = static_cast<uint32_t>(timing.steps_per_frame);
   m.frame_ms = timing.frame_ms;
   m.real_time_factor = timing.real_time_factor;
+  m.refused_commands = static_cast<uint32_t>(refused_commands);
   return m;
 }
 

@@ -196,8 +196,7 @@ SceneModel NavigationNode::buildRequestedScene(const SceneRequest& r, bool from_
   const std::string file = resolve(r.scene);
   if (!isCenterlinePath(file)) return loadScene(file);
   const SceneSpec base = loadSceneFile(resolve(r.base));
-  return buildSceneModel(
-      centerlineScene(base, {file, r.units, r.radius_array, r.frame, r.names}));
+  return buildSceneModel(centerlineScene(base, {file, r.units, r.radius_array, r.frame, r.names}));
 }
 
 bool NavigationNode::loadSceneNamed(const SceneRequest& request, std::string* message,
@@ -236,7 +235,7 @@ void NavigationNode::onPublishTimer(const ros::WallTimerEvent&) {
   {
     std::lock_guard<std::mutex> lock(publisher_mutex_);
     publisher_.publishWrenches(loop_.takeWrenches());
-    publisher_.publish(loop_.snapshot(), loop_.timing(), joystick_state_.device);
+    publisher_.publish(loop_.snapshot(), loop_.timing(), joystick_state_.device, refusedCommands());
   }
   ++frames_this_second_;
   for (const std::string& notice : loop_.takeNotices()) ROS_WARN_STREAM(notice);
@@ -251,7 +250,8 @@ void NavigationNode::onProgressTimer(const ros::WallTimerEvent&) {
   const LoopTiming timing = loop_.timing();
   {
     std::lock_guard<std::mutex> lock(publisher_mutex_);
-    publisher_.publishDiagnostics(f, timing, publish_rate_hz_, loop_.lastError());
+    publisher_.publishDiagnostics(f, timing, publish_rate_hz_, loop_.lastError(),
+                                  refusedCommands());
   }
   const std::string error = loop_.lastError();
   if (!error.empty()) ROS_WARN_STREAM_THROTTLE(5.0, "simulation: " << error);
@@ -289,6 +289,11 @@ void NavigationNode::logRefusal(const std::string& what) {
   last_refusal_ = what;
   last_refusal_log_ = now;
   ROS_WARN_STREAM(what << " (" << refused_commands_ << " commands refused since the start)");
+}
+
+long NavigationNode::refusedCommands() const {
+  std::lock_guard<std::mutex> lock(refusal_mutex_);
+  return refused_commands_;
 }
 
 void NavigationNode::onCommand(const endovascular_sim::DeviceCommand& msg) {
@@ -332,7 +337,7 @@ void NavigationNode::onJoy(const sensor_msgs::Joy& msg) {
   for (const auto& [device, command] : out.commands) {
     const DeviceModel& d = model->devices[device];
     const std::string why = loop_.setCommand(d.name, clampToLimits(command, d));
-    if (!why.empty()) ROS_WARN_STREAM_THROTTLE(1.0, "joystick command refused: " << why);
+    if (!why.empty()) logRefusal("joystick command refused: " + why);
   }
 }
 

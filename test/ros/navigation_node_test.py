@@ -212,9 +212,14 @@ class NavigationNodeTest(unittest.TestCase):
         self.joy_pub.publish(Joy(axes=[1.0], buttons=[1]))
         self.wait_for(lambda: self.warnings_containing('joy message ignored'), 'a refusal')
 
+    def refused_commands(self):
+        with self.lock:
+            return self.stats.refused_commands
+
     def test_bad_commands_are_refused_and_the_state_is_kept(self):
         self.wait_sim(0.2)
         before = self.device().inserted_length
+        refused = self.refused_commands()
         self.command(DeviceCommand.VELOCITY, float('nan'), 0.0)
         self.wait_for(lambda: self.warnings_containing('finite'), 'the NaN refusal')
         self.command(DeviceCommand.VELOCITY, 10.0, 0.0)
@@ -225,12 +230,30 @@ class NavigationNodeTest(unittest.TestCase):
                       'the unknown-device refusal')
         self.command(7, 0.01, 0.0)
         self.wait_for(lambda: self.warnings_containing('mode 7'), 'the unknown-mode refusal')
+        # four malformed commands, counted in /stats (a detach refused is no malformed command)
+        self.wait_for(lambda: self.stats.refused_commands == refused + 4, 'a count of 4 in /stats')
         self.command(DeviceCommand.DETACH, 0.0, 0.0)  # the guidewire has no detach_section
         self.wait_for(lambda: self.warnings_containing('no detach_section'),
                       'the detach refusal')
         self.wait_sim(0.2)
         self.assertEqual(self.device().inserted_length, before)
         self.assertTrue(math.isfinite(self.device().tip.position.x))
+
+    def test_a_flood_of_malformed_commands_is_counted_and_logged_throttled(self):
+        refused = self.refused_commands()
+        start = time.time()
+        for _ in range(200):  # 200 commands too fast for the wire, in about a second
+            self.command(DeviceCommand.VELOCITY, 30.0, 0.0)
+            time.sleep(0.005)
+        self.wait_for(lambda: self.stats.refused_commands == refused + 200,
+                      'all 200 counted in /stats')
+        elapsed = time.time() - start
+        self.wait_sim(0.2)  # the last warnings reach /rosout
+        with self.lock:
+            warnings = len(self.warnings_containing('speed 30 m/s'))
+        # the first at once, then at most one a second
+        self.assertGreaterEqual(warnings, 1)
+        self.assertLessEqual(warnings, 2 + int(elapsed))
 
     def test_unknown_scene_is_refused_and_the_scene_keeps_running(self):
         res = self.load_scene('nope')

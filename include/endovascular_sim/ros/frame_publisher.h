@@ -45,15 +45,18 @@ class FramePublisher {
   /// The clock at simulated time t of the current scene.
   ros::Time clockAt(double t) const { return epoch_ + ros::Duration(t); }
 
-  void publish(const FrameSnapshot& frame, const LoopTiming& timing, int driven_device);
+  /// refused_commands: malformed commands refused since the node started.
+  void publish(const FrameSnapshot& frame, const LoopTiming& timing, int driven_device,
+               long refused_commands);
   /// Every step's drive wrench on devices/NAME/drive_wrench, stamped with
   /// its step's time (the simulation's rate, in bursts of a frame).
   void publishWrenches(const std::vector<std::vector<WrenchSample>>& samples);
   /// One DiagnosticStatus for the loop: OK, WARN when frames overran or the
   /// real-time factor fell below 0.9 since the last call, ERROR after a
-  /// rejected step.
+  /// rejected step; with the count of refused commands.
   void publishDiagnostics(const FrameSnapshot& frame, const LoopTiming& timing,
-                          double publish_rate_hz, const std::string& last_error);
+                          double publish_rate_hz, const std::string& last_error,
+                          long refused_commands);
 
  private:
   void publishTransforms(const FrameSnapshot& frame, const std_msgs::Header& header);

@@ -20,8 +20,9 @@ geometry_msgs::Vector3 toVector3(const Vec3& v);
 geometry_msgs::Quaternion toQuaternion(const Quat& q);
 geometry_msgs::Pose toPose(const Vec3& p, const Quat& q);
 
+/// refused_commands: malformed commands the node refused since it started.
 endovascular_sim::StepStats toStepStatsMsg(const FrameSnapshot& frame, const LoopTiming& timing,
-                                           const std_msgs::Header& header);
+                                           long refused_commands, const std_msgs::Header& header);
 endovascular_sim::ContactArray toContactArrayMsg(const FrameSnapshot& frame,
                                                  const std_msgs::Header& header);
 /// driven: index of the device the joystick drives.

@@ -93,6 +93,8 @@ class NavigationNode {
     std::string frame;
     std::map<int, std::string> names;  // branch id -> vessel name
   };
+  /// Malformed commands refused since the node started (for /stats and the diagnostics).
+  long refusedCommands() const;
   /// Logs a refused command: a new reason at once, a repeated one at most
   /// once a second, each with the count refused so far.
   void logRefusal(const std::string& what);
@@ -131,13 +133,13 @@ class NavigationNode {
   ros::ServiceServer load_srv_, load_centerline_srv_, list_srv_, reset_srv_, pause_srv_;
   ros::CallbackQueue load_queue_;  // load_scene's own queue and thread
   std::unique_ptr<ros::AsyncSpinner> load_spinner_;
-  std::mutex publisher_mutex_;  // publisher_ between the timers and a scene swap
-  std::mutex load_mutex_;       // one scene load at a time
-  std::mutex refusal_mutex_;  // guards the three below
-  long refused_commands_{0};  // malformed commands since the start
-  std::string last_refusal_;  // the last logged, and when: a repeat waits a second
+  std::mutex publisher_mutex_;        // publisher_ between the timers and a scene swap
+  std::mutex load_mutex_;             // one scene load at a time
+  mutable std::mutex refusal_mutex_;  // guards the three below
+  long refused_commands_{0};          // malformed commands since the start
+  std::string last_refusal_;          // the last logged, and when: a repeat waits a second
   ros::WallTime last_refusal_log_;
-  int slow_seconds_{0};         // consecutive seconds below real time
+  int slow_seconds_{0};  // consecutive seconds below real time
   ros::WallTimer publish_timer_, progress_timer_;
   ros::WallTime last_publish_;
   double publish_rate_hz_{0.0};  // measured over the last second

@@ -90,13 +90,16 @@ struct StepStats {
   double delassus_ms{0.0};        // [ms] W = H A^-1 H^T
   double lcp_ms{0.0};             // [ms] status method (or the chosen solver)
   double correction_ms{0.0};      // [ms] x = x_f + A^-1 H^T lambda
+  double curvature_ms{0.0};       // [ms] the wall's curvature term: A + C, its factor and step
   double vessel_motion_ms{0.0};   // [ms] effect 'vessel_motion': the motion snapshot
   double device_contact_ms{0.0};  // [ms] effect 'device_contact': pair detection
   double coaxial_ms{0.0};         // [ms] effect 'coaxial': lumen detection
-  int contacts{0};                // contacts of the last LCP
-  int active_contacts{0};         // with a positive force
-  int sliding_contacts{0};        // effect 'friction': on the cone's boundary
-  int activation_loops{0};        // most loops of a (sub-)step
+  // (device_contact_ms and coaxial_ms are parts of detection_ms; the other
+  // stages are disjoint: their sum is at most wall_ms)
+  int contacts{0};          // contacts of the last LCP
+  int active_contacts{0};   // with a positive force
+  int sliding_contacts{0};  // effect 'friction': on the cone's boundary
+  int activation_loops{0};  // most loops of a (sub-)step
   int lcp_iterations{0};
   double lcp_residual{0.0};       // worst natural-map residual
   int subdivisions{0};            // sub-steps added by halving

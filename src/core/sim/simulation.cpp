@@ -100,6 +100,7 @@ void addTimes(const ContactStats& c, StepStats* s) {
   s->delassus_ms += c.delassus_ms;
   s->lcp_ms += c.lcp_ms;
   s->correction_ms += c.correction_ms;
+  s->curvature_ms += c.curvature_ms;
   s->device_contact_ms += c.pairs_ms;
   s->coaxial_ms += c.lumen_ms;
 }

@@ -73,6 +73,7 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
   o["delassus_ms"] = s.delassus_ms;
   o["lcp_ms"] = s.lcp_ms;
   o["correction_ms"] = s.correction_ms;
+  o["curvature_ms"] = s.curvature_ms;
   o["vessel_motion_ms"] = s.vessel_motion_ms;
   o["device_contact_ms"] = s.device_contact_ms;
   o["coaxial_ms"] = s.coaxial_ms;
@@ -88,8 +89,8 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
   o["first_rows"] = s.first_rows;
   o["kept_rows"] = s.kept_rows;
   o["slid_forces"] = s.slid_forces;
-  o["late_rows"] = {{"wall", s.late_rows.wall}, {"pair", s.late_rows.pair},
-                    {"lumen", s.late_rows.lumen}};
+  o["late_rows"] = {
+      {"wall", s.late_rows.wall}, {"pair", s.late_rows.pair}, {"lumen", s.late_rows.lumen}};
   o["asleep"] = s.asleep;
   Json devices = Json::array();
   for (size_t i = 0; i < model.devices.size(); ++i) devices.push_back(deviceJson(model, data, i));
@@ -97,8 +98,8 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
   if (!model.targets.empty()) {
     Json targets = Json::array();
     for (size_t k = 0; k < model.targets.size(); ++k)
-      targets.push_back(
-          targetJson(model.targets[k], k < data.targets.size() ? data.targets[k] : TargetProgress{}));
+      targets.push_back(targetJson(model.targets[k],
+                                   k < data.targets.size() ? data.targets[k] : TargetProgress{}));
     o["targets"] = std::move(targets);
   }
   return jsonLine(o);
