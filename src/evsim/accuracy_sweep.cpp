@@ -107,7 +107,8 @@ std::vector<Setting> sceneSettings(const SceneSpec& base) {
     s.push_back(
         {"lcp_tolerance", v.str(), contact([tol](ContactOptions* o) { o->lcp.tolerance = tol; })});
   }
-  if (base.contact.friction) {  // the frictional solvers replace the LCP's
+  if (std::find(base.effects.begin(), base.effects.end(), "friction") !=
+      base.effects.end()) {  // the frictional solvers replace the LCP's
     s.push_back({"friction_solver", "newton", contact([](ContactOptions* o) {
                    o->friction_solver.solver = FrictionSolver::kNewton;
                  })});

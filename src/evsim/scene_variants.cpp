@@ -40,9 +40,6 @@ std::string setEffects(SceneSpec* spec, const std::string& list) {
     effects.push_back(name);
   }
   spec->effects = effects;
-  spec->contact.device_contact =
-      std::find(effects.begin(), effects.end(), "device_contact") != effects.end();
-  spec->contact.friction = std::find(effects.begin(), effects.end(), "friction") != effects.end();
   return "";
 }
 

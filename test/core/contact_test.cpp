@@ -269,7 +269,7 @@ SceneModel wireAcrossTwoWires() {
   m.time_step = 1e-3;
   m.effects.gravity = true;
   m.gravity = Vec3(0, 0, -9.81);
-  m.contact.device_contact = true;
+  m.effects.device_contact = true;
   m.contact.contact_spacing = 1e-3;
   m.contact.root.penetration_tolerance = 1e-12;
   m.contact.penetration_tolerance = 1e-9;

@@ -105,7 +105,6 @@ TEST(Detach, ThePusherPushedBackPushesTheDetachedCoil) {
   spec.devices[0].device = device;
   spec.devices[0].inserted_length = 0.026;  // the coil and the junction past the introducer
   spec.effects = {"device_contact"};
-  spec.contact.device_contact = true;
   spec.gravity = Vec3::Zero();
   spec.script.clear();
   const SceneModel model = buildSceneModel(spec);

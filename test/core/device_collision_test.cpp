@@ -76,7 +76,6 @@ Shot shoot(double speed, bool element_pairs) {
   }
   spec.devices[1].introducer.access_point.x() += 0.001;  // (placed apart; moved below)
   spec.effects = {"device_contact"};
-  spec.contact.device_contact = true;
   spec.contact.element_pairs = element_pairs;
   spec.gravity = Vec3::Zero();
   spec.script.clear();

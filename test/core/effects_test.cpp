@@ -16,8 +16,6 @@ bool named(const SceneSpec& spec, const std::string& effect) {
 
 SceneSpec withEffects(SceneSpec spec, const std::vector<std::string>& effects) {
   spec.effects = effects;
-  spec.contact.device_contact =
-      std::find(effects.begin(), effects.end(), "device_contact") != effects.end();
   return spec;
 }
 

@@ -34,7 +34,7 @@ SceneModel wireOnIncline(double theta, double mu) {
   m.initial_inserted_length.push_back(m.devices[0].length);
   m.initial_rotation.push_back(0.0);
   m.surface = std::make_shared<PlaneSurface>(Vec3::Zero(), Vec3::UnitZ());
-  m.contact.friction = true;
+  m.effects.friction = true;
   m.contact.contact_spacing = 5e-3;
   m.samples.push_back(sampleDevice(m.devices[0], m.contact.contact_spacing));
   return m;
@@ -156,7 +156,7 @@ TEST(Capstan, PullingOverACylinderNeedsTheCapstanForceRatio) {
   m.initial_inserted_length.push_back(inserted);
   m.initial_rotation.push_back(0.0);
   m.surface = std::make_shared<CapstanSurface>(cylinder);
-  m.contact.friction = true;
+  m.effects.friction = true;
   // Sampled between the nodes too: redundant rows (cond W ~ 1e17). Before
   // the non-monotone line search (session 9) Newton stalled on them and the
   // test sampled the nodes only; the ratio is the same (1.8272 at the nodes,

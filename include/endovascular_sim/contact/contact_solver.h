@@ -50,6 +50,7 @@
 #include "endovascular_sim/contact/contact_point.h"
 #include "endovascular_sim/contact/friction.h"
 #include "endovascular_sim/contact/lcp.h"
+#include "endovascular_sim/core/effect_set.h"
 #include "endovascular_sim/geometry/implicit_surface.h"
 #include "endovascular_sim/geometry/interior_ball.h"
 #include "endovascular_sim/geometry/root_finding.h"
@@ -67,9 +68,7 @@ struct ContactOptions {
                          // far from its plane (and at least penetration_tolerance) starts the
                          // next step [m]: about the wall's travel in a step where vessels move
   RootOptions root;      // first-root search
-  bool device_contact{false};          // effect 'device_contact': pairs of device points
   bool element_pairs{false};           // device pairs between elements' axes, not sample points
-  bool friction{false};                // effect 'friction': Coulomb friction (NSGS)
   bool wall_curvature{true};           // the wall's curvature in A (contact/wall_curvature.h)
   int curvature_loops{1000};           // loops that update C (then A + C and its band are kept)
   bool interior_balls{true};           // spare evaluations in certified balls (sample_fields.h)
@@ -199,6 +198,7 @@ LcpRecord readLcpRecord(const std::string& path);
 struct ContactProblem {
   const std::vector<DeviceModel>* devices{nullptr};
   const std::vector<DeviceState>* start{nullptr};  // x_t (drive already advanced)
+  EffectSet effects;  // the scene's: 'friction' and 'device_contact' change the problem
   std::vector<DeviceWorkspace>* workspaces{nullptr};
   const std::vector<std::vector<SamplePoint>>* samples{nullptr};
   const ImplicitSurface* surface{nullptr};

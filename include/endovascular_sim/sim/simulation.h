@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "endovascular_sim/contact/contact_solver.h"
+#include "endovascular_sim/core/effect_set.h"
 #include "endovascular_sim/mechanics/device_model.h"
 #include "endovascular_sim/mechanics/device_state.h"
 #include "endovascular_sim/mechanics/drive_wrench.h"
@@ -26,19 +27,6 @@
 #include "endovascular_sim/sim/targets.h"
 
 namespace evsim {
-
-/// Effects switched on by the scene. An effect that is off costs nothing: its
-/// code is never entered (EffectCounters proves it) and nothing is allocated
-/// for it.
-struct EffectSet {
-  bool gravity{false};         // the weight of every node in the free motion
-  bool vessel_motion{false};   // the motion regions of the vessels
-  bool device_contact{false};  // pairs of device points (devices, a coil with itself)
-  bool subdivision{false};     // an unsolved step is redone as halves
-  bool friction{false};        // Coulomb friction on every contact (mu per device section)
-  bool coaxial{false};         // inner devices held in their outer devices' lumens
-  bool blood_drag{false};      // the still blood's viscous drag on every free node
-};
 
 /// How often each effect's code ran since makeData (tests read them: an
 /// effect that is off stays at zero).

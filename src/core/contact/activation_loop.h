@@ -260,8 +260,8 @@ void placeAtFreeMotion(const ContactProblem& pb, LoopState* s);
 /// Back to x = x_f with no contacts: the prediction found nothing to hold.
 void restartAtFreeMotion(const ContactProblem& pb, LoopState* s);
 /// x = x_f + A^-1 H^T lambda; the contacts' forces from lambda.
-void correctMotion(const ContactProblem& pb, const ContactOptions& o, const LoopSystem& sys,
-                   const VecX& lambda, LoopState* s);
+void correctMotion(const ContactProblem& pb, const LoopSystem& sys, const VecX& lambda,
+                   LoopState* s);
 
 // --- lumen_curvature.cpp -----------------------------------------------------
 

@@ -475,7 +475,7 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
   // the loop's iterates, where they still pass: a packed coil's free motion,
   // springing open, carries its turns by up to millimetres through each
   // other, and the first loop's contacts undo most of those passes.
-  if (o.device_contact) {
+  if (pb.effects.device_contact) {
     const auto tp = Clock::now();
     const int kept_from = static_cast<int>(s->contacts->size());
     keepPairs(pb, o.element_pairs, s);
@@ -507,7 +507,7 @@ bool redetect(const ContactProblem& pb, const ContactOptions& o, SampleFields* f
   bool solved = true;
   if (pb.surface) solved = redetectWalls(pb, o, field, fresh_from, s, &deepest);
   deepest.store(st);
-  if (o.device_contact) {
+  if (pb.effects.device_contact) {
     const auto tp = Clock::now();
     ++st->pair_passes;
     solved = redetectPairs(pb, o, s) && solved;

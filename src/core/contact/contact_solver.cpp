@@ -125,10 +125,11 @@ class WorkspaceStorageLease {
 /// The loop's forces: W lambda + q >= 0 _|_ lambda >= 0 by the chosen LCP
 /// solver, or with friction the frictional problem; warm-started from the
 /// last loop's (or, for contacts that persist, the last step's) forces.
-LcpStatus solveForces(const ContactOptions& o, const std::vector<Contact>& contacts,
-                      const LoopSystem& sys, VecX* lambda, ContactStats* st) {
+LcpStatus solveForces(const ContactProblem& pb, const ContactOptions& o,
+                      const std::vector<Contact>& contacts, const LoopSystem& sys, VecX* lambda,
+                      ContactStats* st) {
   const int c = sys.c;
-  if (o.friction) {
+  if (pb.effects.friction) {
     const MatXView W = sys.W();
     lambda->resize(sys.m);
     for (int i = 0; i < c; ++i) {
@@ -249,7 +250,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   // --- The activation loop ----------------------------------------------------
   bool solved = contacts->empty() && !stranded;
   LcpStatus last_status = LcpStatus::kSolved;
-  const int dim = o.friction ? 3 : 1;
+  const int dim = pb.effects.friction ? 3 : 1;
   s.updated.assign(contacts->size(), 0);
   const WorkspaceStorageLease lease(&ws, &s.last_W);
   for (int loop = 1; loop <= o.max_activation_loops && !solved; ++loop) {
@@ -270,7 +271,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
 
     t0 = Clock::now();
     VecX lambda;
-    const LcpStatus status = solveForces(o, *contacts, sys, &lambda, st);
+    const LcpStatus status = solveForces(pb, o, *contacts, sys, &lambda, st);
     st->lcp_ms += msSince(t0);
     st->contacts = sys.c;
     if (loop == 1) st->first_rows = sys.c;
@@ -285,7 +286,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     }
 
     t0 = Clock::now();
-    correctMotion(pb, o, sys, lambda, &s);  // x = x_f + A^-1 H^T lambda
+    correctMotion(pb, sys, lambda, &s);  // x = x_f + A^-1 H^T lambda
     st->correction_ms += msSince(t0);
 
     t0 = Clock::now();

@@ -8,8 +8,8 @@
 #include <cmath>
 
 #include "activation_loop.h"
-#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/contact/wall_curvature.h"
+#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/mechanics/elasticity.h"
 
 namespace evsim::activation {
@@ -215,7 +215,7 @@ void formRows(const ContactProblem& pb, const ContactOptions& o, LoopState& s, L
   const auto& start = *pb.start;
   const auto& samples = *pb.samples;
   const std::vector<DeviceState>& x = s.x;
-  const int dim = o.friction ? 3 : 1;
+  const int dim = pb.effects.friction ? 3 : 1;
   // The rows are linearised at x, the configuration of the last loop (x_f
   // in the first): g(x_f + A^-1 H^T lambda) ~ g(x) + H (x_f - x) + W lambda.
   // Linearised at x_f throughout, a loop whose correction moves points far
@@ -257,7 +257,7 @@ void formRows(const ContactProblem& pb, const ContactOptions& o, LoopState& s, L
                             normalRow(pb, x, ct.other_device, *so, ct.normal, -1.0, 1,
                                       turn(ct.other_device), formed));
     }
-    if (!o.friction) continue;
+    if (!pb.effects.friction) continue;
     // Tangent rows: q is the slip over the step (relative to the other
     // point for pairs).
     sys->tangents[i] = tangentBasis(ct.normal, sampleTangent(x[ct.device], sp));
@@ -371,7 +371,8 @@ const DelassusBuffer* deviceOperator(const ContactProblem& pb, size_t d, LoopSta
 /// is cheaper.
 bool columnsOnDemandPay(const ContactProblem& pb, const ContactOptions& o, const LoopState& s,
                         const LoopSystem& sys) {
-  if (!o.columns_on_demand || o.friction || o.lcp.solver != LcpSolver::kStatusMethod) return false;
+  if (!o.columns_on_demand || pb.effects.friction || o.lcp.solver != LcpSolver::kStatusMethod)
+    return false;
   double forces = 0.0, nodes = 0.0;
   for (int i = 0; i < sys.c; ++i) forces += (*s.contacts)[i].force > 0.0;
   for (const DeviceWorkspace& w : *pb.workspaces) nodes += w.factor.size() / 6;
@@ -389,8 +390,8 @@ void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopS
   const size_t nd = pb.devices->size();
   const int m = sys->m;
   sys->q.resize(m);
-  sys->mu.resize(o.friction ? sys->c : 0);
-  if (o.friction) sys->tangents.resize(sys->c);
+  sys->mu.resize(pb.effects.friction ? sys->c : 0);
+  if (pb.effects.friction) sys->tangents.resize(sys->c);
   // The rows' parts per device; their storage is kept from loop to loop
   // (per thread, as the loops of one step run on one).
   std::vector<std::vector<RowPart>>& parts = threadCache<std::vector<std::vector<RowPart>>>();
@@ -505,11 +506,11 @@ void restartAtFreeMotion(const ContactProblem& pb, LoopState* s) {
   for (auto& of : s->lumen_of) std::fill(of.begin(), of.end(), -1);
 }
 
-void correctMotion(const ContactProblem& pb, const ContactOptions& o, const LoopSystem& sys,
-                   const VecX& lambda, LoopState* s) {
+void correctMotion(const ContactProblem& pb, const LoopSystem& sys, const VecX& lambda,
+                   LoopState* s) {
   auto& ws = *pb.workspaces;
   const size_t nd = ws.size();
-  const int dim = o.friction ? 3 : 1;
+  const int dim = pb.effects.friction ? 3 : 1;
   VecX forces = lambda;  // with the lumen's curvature springs' after the contacts'
   if (!sys.springs.empty()) {
     forces.resize(sys.m + static_cast<int>(sys.springs.size()));
@@ -535,7 +536,7 @@ void correctMotion(const ContactProblem& pb, const ContactOptions& o, const Loop
   for (int i = 0; i < sys.c; ++i) {
     Contact& ct = (*s->contacts)[i];
     ct.force = lambda(dim * i);
-    if (o.friction)
+    if (pb.effects.friction)
       ct.friction = lambda(3 * i + 1) * sys.tangents[i][0] + lambda(3 * i + 2) * sys.tangents[i][1];
   }
 }

@@ -501,9 +501,6 @@ SceneSpec readScene(const YamlReader& r) {
   if (root["contact"]) s.contact = readContact(r, root["contact"]);
   if (root["sleep"]) s.sleep = readSleep(r, root["sleep"]);
   if (root["xray"]) s.xray = readXray(r, root["xray"]);
-  s.contact.device_contact =
-      std::find(s.effects.begin(), s.effects.end(), "device_contact") != s.effects.end();
-  s.contact.friction = std::find(s.effects.begin(), s.effects.end(), "friction") != s.effects.end();
   const bool moves =
       std::find(s.effects.begin(), s.effects.end(), "vessel_motion") != s.effects.end();
   if (moves && s.vessels.motion.empty())

@@ -72,6 +72,7 @@ void checkDeviceOverlaps(const SceneSpec& spec, const SceneModel& m) {
     data.workspaces[i].first_free_node =
         lastHeldNode(m.devices[i], data.devices[i].inserted_length) + 1;
   ContactProblem pb;
+  pb.effects = m.effects;
   pb.devices = &m.devices;
   pb.start = &data.devices;
   pb.workspaces = &data.workspaces;
@@ -314,7 +315,6 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
   checkAccessPoints(spec, m.vessels.get());
   m.targets = resolveTargets(spec, m.atlas.get());
   m.contact = spec.contact;
-  m.contact.friction = m.effects.friction;
   m.sleep = spec.sleep;
   if (m.effects.vessel_motion) m.sleep.enabled = false;
   for (const auto& d : spec.devices) {

@@ -160,8 +160,9 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
   previous.swap(data->contacts);
   // x_t (+) dq, where the contact solver ended (it takes the storage).
   bool already_moved = false;
-  if (model.surface || model.contact.device_contact || model.effects.coaxial) {
+  if (model.surface || model.effects.device_contact || model.effects.coaxial) {
     ContactProblem pb;
+    pb.effects = model.effects;
     pb.previous = &previous;
     pb.devices = &model.devices;
     pb.start = next;
