@@ -75,8 +75,8 @@ RunResult runScene(const SceneSpec& spec, double duration) {
       ++r.rejected;
       continue;
     }
-    r.max_penetration_m = std::max(r.max_penetration_m, data.stats.max_penetration_m);
-    r.max_residual = std::max(r.max_residual, data.stats.lcp_residual);
+    r.max_penetration_m = std::max(r.max_penetration_m, data.stats.contact.max_penetration_m);
+    r.max_residual = std::max(r.max_residual, data.stats.contact.lcp_residual);
   }
   r.wall_s = secondsSince(t0);
   for (const auto& d : data.devices) r.tips.push_back(d.position.back());

@@ -125,13 +125,14 @@ bool measure(const SceneModel& model, long warmup, long steps, bool strict,
       return false;
     }
     const StepStats& s = data.stats;
-    touched = touched || s.contacts > 0;
+    touched = touched || s.contact.contacts > 0;
     if (k < warmup) continue;
     const Phase phase = !touched                           ? Phase::kFree
                         : driveMoved(before, data.devices) ? Phase::kContact
                                                            : Phase::kInserted;
-    record->push_back({s.wall_ms, s.contacts, s.active_contacts, s.activation_loops,
-                       s.subdivisions > 0, s.asleep, phase, s.late_rows});
+    record->push_back({s.wall_ms, s.contact.contacts, s.contact.active_contacts,
+                       s.contact.activation_loops, s.subdivisions > 0, s.asleep, phase,
+                       s.contact.late_rows});
   }
   if (tips) {
     tips->clear();

@@ -60,13 +60,14 @@ bool runWindow(const SceneModel& model, const std::string& state, long count, bo
       return false;
     }
     const StepStats& s = data.stats;
+    const ContactStats& c = s.contact;
     t->ms.push_back(s.wall_ms);
-    t->extra_loops += std::max(s.activation_loops - 1, 0);
-    t->late += s.late_rows;
-    t->rows += s.contacts;
+    t->extra_loops += std::max(c.activation_loops - 1, 0);
+    t->late += c.late_rows;
+    t->rows += c.contacts;
     t->halved += s.subdivisions > 0;
-    t->deepest = std::max(t->deepest, s.max_penetration_m);
-    t->loops.push_back(s.activation_loops);
+    t->deepest = std::max(t->deepest, c.max_penetration_m);
+    t->loops.push_back(c.activation_loops);
   }
   return true;
 }
@@ -163,7 +164,7 @@ int benchWindows(const SceneModel& model, const std::vector<SceneModel>& variant
                   << " at t = " << data.time << " s failed: " << data.last_error << "\n";
         return kExitFailure;
       }
-      if (inside[k]) run.loops.push_back(data.stats.activation_loops);
+      if (inside[k]) run.loops.push_back(data.stats.contact.activation_loops);
     }
   }
   std::printf(

@@ -46,7 +46,7 @@ void printProgress(const SceneModel& model, const SimData& data, double mean_ste
       std::cout << "  " << model.devices[i].name << " in "
                 << model.atlas->vessels()[data.tips[i].vessel].name << " at "
                 << data.tips[i].depth * 1e3 << " mm";
-  std::cout << "  contacts=" << data.stats.contacts << "  mean step " << mean_step_ms << " ms"
+  std::cout << "  contacts=" << data.stats.contact.contacts << "  mean step " << mean_step_ms << " ms"
             << (data.stats.asleep ? "  asleep" : "") << "\n";
 }
 

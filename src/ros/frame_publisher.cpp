@@ -196,7 +196,7 @@ void FramePublisher::publishDiagnostics(const FrameSnapshot& f, const LoopTiming
   s.values.push_back(keyValue("real-time factor", timing.real_time_factor));
   s.values.push_back(keyValue("overruns (total)", static_cast<double>(timing.overruns)));
   s.values.push_back(keyValue("simulated time [s]", f.time));
-  s.values.push_back(keyValue("contacts", f.stats.contacts));
+  s.values.push_back(keyValue("contacts", f.stats.contact.contacts));
   s.values.push_back(keyValue("refused commands (total)", static_cast<double>(refused_commands)));
   for (size_t i = 0; f.model->atlas && i < f.tips.size(); ++i) {
     diagnostic_msgs::KeyValue kv;

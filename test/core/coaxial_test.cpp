@@ -182,8 +182,8 @@ TEST(Coaxial, ColumnsOnDemandFollowTheWholeOperatorsRun) {
     long sum = 0, loops = 0;
     for (int k = 0; k < kSteps; ++k) {
       ASSERT_EQ(step(m, &d), StepStatus::kOk) << k;
-      sum += d.stats.contacts;
-      loops += d.stats.on_demand_loops;
+      sum += d.stats.contact.contacts;
+      loops += d.stats.contact.on_demand_loops;
     }
     tips.push_back({d.devices[0].position.back(), d.devices[1].position.back()});
     rows.push_back(sum);

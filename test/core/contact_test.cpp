@@ -80,8 +80,8 @@ INSTANTIATE_TEST_SUITE_P(Solvers, FloorEquilibrium,
 /// no point beyond the wall by more than the tolerance.
 void expectSignorini(const SceneModel& m, const SimData& d, const std::string& where) {
   const double tol = m.contact.penetration_tolerance;
-  EXPECT_LE(d.stats.max_penetration_m, tol) << where;
-  EXPECT_LE(d.stats.lcp_residual, 1e-10) << where;
+  EXPECT_LE(d.stats.contact.max_penetration_m, tol) << where;
+  EXPECT_LE(d.stats.contact.lcp_residual, 1e-10) << where;
   for (const Contact& c : d.contacts) {
     EXPECT_GE(c.force, 0.0) << where;
     EXPECT_GE(c.gap, -tol) << where;
@@ -102,8 +102,8 @@ TEST_P(SceneSignorini, HoldsAfterEveryStep) {
     ASSERT_EQ(step(m, &d), StepStatus::kOk) << GetParam() << " step " << k << ": " << d.last_error;
     expectSignorini(m, d, GetParam() + " step " + std::to_string(k));
     if (::testing::Test::HasFailure()) return;
-    max_contacts = std::max(max_contacts, d.stats.active_contacts);
-    steps_with_contacts += d.stats.active_contacts > 0;
+    max_contacts = std::max(max_contacts, d.stats.contact.active_contacts);
+    steps_with_contacts += d.stats.contact.active_contacts > 0;
   }
   std::printf("[ metric   ] %s: %d steps with contacts, at most %d active\n", GetParam().c_str(),
               steps_with_contacts, max_contacts);
@@ -324,7 +324,7 @@ TEST(DeviceContact, WireRestingAcrossTwoWiresIsCarriedByThem) {
   int pairs = 0;
   for (int k = 0; k < settle + window; ++k) {
     ASSERT_EQ(step(m, &d), StepStatus::kOk) << d.last_error;
-    EXPECT_LE(d.stats.max_penetration_m, m.contact.penetration_tolerance) << "step " << k;
+    EXPECT_LE(d.stats.contact.max_penetration_m, m.contact.penetration_tolerance) << "step " << k;
     if (k < settle) continue;
     average += supportOfTopWire(d, &pairs) / window;
   }
@@ -356,8 +356,8 @@ TEST(DeviceContact, PairsKeptFromStepToStepHoldAWireAtRest) {
   for (int k = 0; k < settle + window; ++k) {
     ASSERT_EQ(step(m, &d), StepStatus::kOk) << d.last_error;
     if (k < settle) continue;
-    second_loops += d.stats.activation_loops > 1;
-    late_pairs += d.stats.late_rows.pair;
+    second_loops += d.stats.contact.activation_loops > 1;
+    late_pairs += d.stats.contact.late_rows.pair;
     average += supportOfTopWire(d, &pairs) / window;
     lowest = std::min(lowest, d.devices[0].position[15].z());
     highest = std::max(highest, d.devices[0].position[15].z());

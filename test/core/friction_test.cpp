@@ -89,7 +89,7 @@ TEST_P(Incline, StaysBelowTheFrictionAngleAndSlidesWithTheAnalyticAccelerationAb
   std::printf(
       "[ metric   ] incline tan=%.2f mu=%.2f: a = %.6f m/s^2 (analytic %.6f), slid %.3e m, "
       "%d sliding contacts\n",
-      std::tan(theta), mu, a, expected, distance, d.stats.sliding_contacts);
+      std::tan(theta), mu, a, expected, distance, d.stats.contact.sliding_contacts);
   if (expected == 0.0) {
     EXPECT_LT(std::abs(distance), 1e-7);  // sticks: below 0.1 um in 0.4 s
     EXPECT_LT(std::abs(a), 1e-4);
@@ -201,7 +201,7 @@ TEST(Capstan, PullingOverACylinderNeedsTheCapstanForceRatio) {
     for (int i = 0; i < dev.num_nodes; ++i)  // the hanging part, below the wrap
       if (d.devices[0].position[i].x() > 0.0 && d.devices[0].position[i].y() < 0.0)
         load += dev.node_mass[i] * kG / window;
-    sliding = d.stats.sliding_contacts;
+    sliding = d.stats.contact.sliding_contacts;
   }
   const double ratio = (load + friction_sum) / load, expected = std::exp(mu * M_PI);
   std::printf(

@@ -124,7 +124,7 @@ std::vector<Vec3> tipsAfter(const std::string& scene, long steps, bool balls, lo
   for (long k = 0; k < steps; ++k) EXPECT_EQ(step(model, &data), StepStatus::kOk) << k;
   std::vector<Vec3> tips;
   for (const DeviceState& d : data.devices) tips.push_back(d.position.back());
-  *rows = data.stats.contacts;
+  *rows = data.stats.contact.contacts;
   return tips;
 }
 

@@ -53,10 +53,10 @@ TEST(KeepGap, TheMovingNetworksStepsObeySignoriniInFewerLoops) {
     gap_kept = std::max(gap_kept, largestActiveGap(with_gap));
     apart_kept = std::max(apart_kept, largestNodeDistance(with_gap.devices, d.devices));
     apart_paper = std::max(apart_paper, largestNodeDistance(on_free_motion.devices, d.devices));
-    loops_plain += d.stats.activation_loops;
-    loops_kept += with_gap.stats.activation_loops;
-    rows_plain += d.stats.contacts;
-    rows_kept += with_gap.stats.contacts;
+    loops_plain += d.stats.contact.activation_loops;
+    loops_kept += with_gap.stats.contact.activation_loops;
+    rows_plain += d.stats.contact.contacts;
+    rows_kept += with_gap.stats.contact.contacts;
   }
   std::printf(
       "[ metric   ] network t = 9.5-9.8 s: loops %d without kept gaps, %d with (LCP rows %d, "

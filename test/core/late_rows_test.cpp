@@ -29,8 +29,8 @@ LateTally stepAndCheck(const char* scene, int from_step, int steps) {
   LateTally tally;
   for (int k = 0; k < steps; ++k) {
     EXPECT_EQ(step(model, &d), StepStatus::kOk) << d.last_error;
-    const StepStats& s = d.stats;
-    if (s.subdivisions > 0 || s.asleep || s.activation_loops == 0) continue;
+    const ContactStats& s = d.stats.contact;
+    if (d.stats.subdivisions > 0 || d.stats.asleep || s.activation_loops == 0) continue;
     const LateRows& late = s.late_rows;
     EXPECT_EQ(s.contacts, s.first_rows + late.wall + late.pair + late.lumen)
         << scene << " step " << d.step;

@@ -56,8 +56,8 @@ PushResult push(bool turn) {
   PushResult run;
   for (int k = 0; k < 3000; ++k) {
     EXPECT_EQ(step(m, &d), StepStatus::kOk) << "step " << k << ": " << d.last_error;
-    EXPECT_LE(d.stats.max_penetration_m, m.contact.penetration_tolerance) << "step " << k;
-    EXPECT_LE(d.stats.lcp_residual, 1e-10) << "step " << k;
+    EXPECT_LE(d.stats.contact.max_penetration_m, m.contact.penetration_tolerance) << "step " << k;
+    EXPECT_LE(d.stats.contact.lcp_residual, 1e-10) << "step " << k;
     if (::testing::Test::HasFailure()) return run;
     const DeviceState& wire = d.devices[0];
     const int held = lastHeldNode(m.devices[0], wire.inserted_length);  // in the sheath

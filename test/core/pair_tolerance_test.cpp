@@ -38,9 +38,9 @@ PackedRun runPacked(double pair_tolerance, std::optional<double> new_pair_overla
       ADD_FAILURE() << "step " << run.steps + 1 << ": " << data.last_error;
       break;
     }
-    run.loops += data.stats.activation_loops;
-    run.rows += data.stats.contacts;
-    run.max_rows = std::max(run.max_rows, data.stats.contacts);
+    run.loops += data.stats.contact.activation_loops;
+    run.rows += data.stats.contact.contacts;
+    run.max_rows = std::max(run.max_rows, data.stats.contact.contacts);
     run.deepest =
         std::max(run.deepest, test::deepestSelfOverlap(model.devices.back(), data.devices.back()));
   }

@@ -69,7 +69,7 @@ TEST(PredictedFirstIterate, AWireAtRestIsWhereItsForcesHoldIt) {
     const std::vector<DeviceState> before = d.devices, before_free = d_free.devices;
     ASSERT_EQ(step(m, &d), StepStatus::kOk) << "step " << k << ": " << d.last_error;
     ASSERT_EQ(step(m_free, &d_free), StepStatus::kOk) << d_free.last_error;
-    EXPECT_EQ(d.stats.activation_loops, 1) << "step " << k;
+    EXPECT_EQ(d.stats.contact.activation_loops, 1) << "step " << k;
     gap_predicted = std::max(gap_predicted, largestActiveGap(d));
     if (k < 300) continue;
     moved = std::max(moved, largestNodeDistance(d.devices, before));

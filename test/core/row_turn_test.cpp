@@ -32,10 +32,10 @@ TEST(RowTurn, KeptRowsGiveTheAnswerOfRowsFormedEveryLoop) {
       kept, formed, 4500, 300, [&](int k, const SimData& d, const SimData& other) {
         test::expectWithinTolerance(d, tol, k);
         t.add(d, other);
-        rows_kept += d.stats.kept_rows;
-        rows_formed += other.stats.kept_rows;
-        if (d.stats.activation_loops > 1)
-          later_rows += (d.stats.activation_loops - 1) * d.stats.contacts;
+        rows_kept += d.stats.contact.kept_rows;
+        rows_formed += other.stats.contact.kept_rows;
+        if (d.stats.contact.activation_loops > 1)
+          later_rows += (d.stats.contact.activation_loops - 1) * d.stats.contact.contacts;
       }));
   std::printf(
       "[ metric   ] aneurysm_packed t = 4.5-4.8 s: loops %ld kept, %ld formed every loop; rows of "

@@ -35,7 +35,7 @@ inline double largestNodeDistance(const std::vector<DeviceState>& a,
 /// An answer within the tolerance: no point beyond the wall, and no
 /// contact's gap below, by more than tol [m] (step k, for the message).
 inline void expectWithinTolerance(const SimData& d, double tol, int k) {
-  EXPECT_LE(d.stats.max_penetration_m, tol) << "step " << k;
+  EXPECT_LE(d.stats.contact.max_penetration_m, tol) << "step " << k;
   for (const Contact& c : d.contacts) EXPECT_GE(c.gap, -tol) << "step " << k;
 }
 
@@ -46,8 +46,8 @@ struct BothWays {
   long loops_a{0}, loops_b{0};
   double gap_a{0.0}, gap_b{0.0}, apart{0.0};
   void add(const SimData& a, const SimData& b) {
-    loops_a += a.stats.activation_loops;
-    loops_b += b.stats.activation_loops;
+    loops_a += a.stats.contact.activation_loops;
+    loops_b += b.stats.contact.activation_loops;
     gap_a = std::max(gap_a, largestActiveGap(a));
     gap_b = std::max(gap_b, largestActiveGap(b));
     apart = std::max(apart, largestNodeDistance(a.devices, b.devices));

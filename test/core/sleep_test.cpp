@@ -54,7 +54,7 @@ TEST(Sleep, ARestingWireSleepsWhereTheReferenceRestsAndWakesOnACommand) {
   stepBoth(sleepy, &s, awake, &r, 200);
   EXPECT_EQ(s.effect_calls.gravity, gravity);
   EXPECT_TRUE(s.stats.asleep);
-  EXPECT_EQ(s.stats.active_contacts, r.stats.active_contacts);  // the kept contacts
+  EXPECT_EQ(s.stats.contact.active_contacts, r.stats.contact.active_contacts);  // the kept contacts
   EXPECT_DOUBLE_EQ(s.time, r.time);
 
   // The joystick repeats its last command: no wake. A changed one wakes it.

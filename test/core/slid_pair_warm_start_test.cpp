@@ -30,12 +30,12 @@ TEST(SlidPairWarmStart, TakenOverForcesGiveTheSameAnswerInFewerPivots) {
   test::BothWays t;  // a: taken over, b: left where it was
   ASSERT_NO_FATAL_FAILURE(test::stepBothWays(
       taking, leaving, 4500, 300, [&](int k, const SimData& d, const SimData& other) {
-        EXPECT_EQ(other.stats.slid_forces, 0) << "step " << k;
+        EXPECT_EQ(other.stats.contact.slid_forces, 0) << "step " << k;
         test::expectWithinTolerance(d, tol, k);
         t.add(d, other);
-        slid += d.stats.slid_forces;
-        pivots_taking += d.stats.lcp_iterations;
-        pivots_leaving += other.stats.lcp_iterations;
+        slid += d.stats.contact.slid_forces;
+        pivots_taking += d.stats.contact.lcp_iterations;
+        pivots_leaving += other.stats.contact.lcp_iterations;
       }));
   std::printf(
       "[ metric   ] aneurysm_packed t = 4.5-4.8 s: %ld forces taken over; status-method pivots "

@@ -77,11 +77,11 @@ void drive(const std::string& scene, long steps, Outcome* result, const Observer
       ASSERT_LT(ke, bound) << scene << " step " << k + 1 << ": kinetic energy";
       out.max_kinetic_energy_J = std::max(out.max_kinetic_energy_J, ke);
     }
-    ASSERT_LE(data.stats.max_penetration_m, tolerance + 1e-12) << scene << " step " << k + 1;
+    ASSERT_LE(data.stats.contact.max_penetration_m, tolerance + 1e-12) << scene << " step " << k + 1;
     ASSERT_LE(data.stats.subdivisions, subdivision_limit) << scene << " step " << k + 1;
-    out.max_penetration_m = std::max(out.max_penetration_m, data.stats.max_penetration_m);
-    out.max_active_contacts = std::max(out.max_active_contacts, data.stats.active_contacts);
-    out.max_contacts = std::max(out.max_contacts, data.stats.contacts);
+    out.max_penetration_m = std::max(out.max_penetration_m, data.stats.contact.max_penetration_m);
+    out.max_active_contacts = std::max(out.max_active_contacts, data.stats.contact.active_contacts);
+    out.max_contacts = std::max(out.max_contacts, data.stats.contact.contacts);
     out.max_subdivisions = std::max(out.max_subdivisions, data.stats.subdivisions);
     out.mean_ms += data.stats.wall_ms / steps;
     ++out.steps;

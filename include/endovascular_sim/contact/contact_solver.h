@@ -51,6 +51,7 @@
 #include "endovascular_sim/contact/friction.h"
 #include "endovascular_sim/contact/lcp.h"
 #include "endovascular_sim/core/effect_set.h"
+#include "endovascular_sim/core/stage_timer.h"
 #include "endovascular_sim/geometry/implicit_surface.h"
 #include "endovascular_sim/geometry/interior_ball.h"
 #include "endovascular_sim/geometry/root_finding.h"
@@ -145,35 +146,54 @@ struct LateRows {
   }
 };
 
+/// Wall time of the contact stages [ms]. The first five are consecutive
+/// stages of the step's clock (StageTimer); the last two are parts of
+/// detection_ms.
+struct ContactTimes {
+  double detection_ms{0.0};       // first roots, re-detection, plane updates, tunnel checks
+  double curvature_ms{0.0};       // the wall curvature term: A + C, its factor and step
+  double delassus_ms{0.0};        // W = H A^-1 H^T (q, H with it)
+  double lcp_ms{0.0};             // the status method (or the chosen solver)
+  double correction_ms{0.0};      // x = x_f + A^-1 H^T lambda
+  double device_contact_ms{0.0};  // effect 'device_contact': pair detection
+  double coaxial_ms{0.0};         // effect 'coaxial': lumen detection
+
+  ContactTimes& operator+=(const ContactTimes& o);
+  /// The consecutive stages' sum (without the parts of detection_ms).
+  double stagesMs() const {
+    return detection_ms + curvature_ms + delassus_ms + lcp_ms + correction_ms;
+  }
+};
+
+/// What one contact resolution found, and (in StepStats) a step's over its
+/// accepted sub-steps (addSubStep).
 struct ContactStats {
   int contacts{0};          // rows of the last LCP
   int active_contacts{0};   // with a positive force
   int sliding_contacts{0};  // effect 'friction': on the cone's boundary
   int friction_solves{0};   // frictional problems solved (effect 'friction')
-  int activation_loops{0};
-  int lcp_iterations{0};                     // summed over the loops
-  double lcp_residual{0.0};                  // natural-map residual of the last LCP
+  int activation_loops{0};  // of the resolution (a step's: the most of its sub-steps)
+  int lcp_iterations{0};    // summed over the loops (and sub-steps)
+  double lcp_residual{0.0};                  // natural-map residual of the last LCP (step: worst)
   double max_penetration_m{0.0};             // deepest sample point beyond the wall at the end [m]
                                              // (infinite: outside the vessel tree)
   int deepest_device{-1};                    // that point's device (-1: none beyond)
   Vec3 deepest_point{Vec3::Zero()};          // and position [m]
   LcpStatus lcp_status{LcpStatus::kSolved};  // not kSolved: the loop stopped at a failed LCP, or
                                              // ended on an unsolved one (lcp.h)
-  int tunnelled{0};  // loop iterates inside a vessel whose path from x_t crossed a wall
-  double detection_ms{0.0};
-  double delassus_ms{0.0};
-  double lcp_ms{0.0};
-  double correction_ms{0.0};
-  double curvature_ms{0.0};  // the wall curvature term: A + C, its factor and step
-  double pairs_ms{0.0};      // device-pair detection (part of detection_ms)
-  int pair_passes{0};        // device-pair detection passes (effect 'device_contact')
-  double lumen_ms{0.0};      // coaxial lumen detection (part of detection_ms)
-  int lumen_passes{0};       // coaxial lumen detection passes (effect 'coaxial')
-  int on_demand_loops{0};    // loops whose W was formed column by column (columns_on_demand)
+  int tunnels{0};  // loop iterates inside a vessel whose path from x_t crossed a wall, re-solved
+  int pair_passes{0};      // device-pair detection passes (effect 'device_contact')
+  int lumen_passes{0};     // coaxial lumen detection passes (effect 'coaxial')
+  int on_demand_loops{0};  // loops whose W was formed column by column (columns_on_demand)
   int kept_rows{0};  // rows whose entries of W a loop kept from the last (contact.row_turn), summed
   int slid_forces{0};  // forces a new pair took over as its warm start (slid_pair_warm_start)
   int first_rows{0};   // rows of the first loop's LCP
-  LateRows late_rows;  // rows the loop added after its first LCP, by kind
+  LateRows late_rows;  // rows the loop added after its first LCP, by kind (step: summed)
+  ContactTimes times;  // of every attempt, a rejected one too (its cost is real)
+
+  /// Adds an accepted sub-step's results (not its times): counts summed,
+  /// loops and residual their worst, the rest the last sub-step's.
+  void addSubStep(const ContactStats& sub);
 };
 
 /// The LCP of the last activation loop (for dumps and offline comparisons).
@@ -243,8 +263,10 @@ std::vector<DeviceOverlap> deviceOverlaps(const ContactProblem& problem, double 
 /// Corrects ws.dq of every device so that no sample point lies beyond the
 /// surface by more than the tolerance. Returns false when that was not
 /// reached in max_activation_loops (contacts and stats still describe the
-/// last loop).
+/// last loop). The stages' times go to stats->times, measured on *timer
+/// when given (the step's clock: the time between stages to its remainder).
 bool resolveContacts(const ContactProblem& problem, const ContactOptions& options,
-                     std::vector<Contact>* contacts, ContactStats* stats);
+                     std::vector<Contact>* contacts, ContactStats* stats,
+                     StageTimer* timer = nullptr);
 
 }  // namespace evsim

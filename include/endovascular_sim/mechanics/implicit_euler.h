@@ -9,6 +9,7 @@
 
 #include <vector>
 
+#include "endovascular_sim/core/stage_timer.h"
 #include "endovascular_sim/core/types.h"
 #include "endovascular_sim/mechanics/chain_inverse.h"
 #include "endovascular_sim/mechanics/chain_matrix.h"
@@ -35,7 +36,7 @@ struct DeviceWorkspace {
   double elastic_energy{0.0};  // [J] at the start of the step, of the elements with a free node
 };
 
-/// Wall time of each stage [ms].
+/// Wall time of each stage [ms], added to by every free motion computed.
 struct FreeMotionTimes {
   double assembly_ms{0.0};
   double factorization_ms{0.0};
@@ -47,9 +48,12 @@ struct FreeMotionTimes {
 /// the element leaving it (sheath_support.h); a device inside another is
 /// held there by its outer device's lumen instead. Returns false when A is
 /// not positive definite (the state is then left untouched by the caller).
+/// The stages' times are added to *times, measured on *timer when given
+/// (the step's clock: the time before the assembly goes to its remainder).
 bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const Vec3& gravity,
                        double dt, const DeviceState& state, DeviceWorkspace* ws,
-                       FreeMotionTimes* times = nullptr, bool sheath_hold = true);
+                       FreeMotionTimes* times = nullptr, StageTimer* timer = nullptr,
+                       bool sheath_hold = true);
 
 /// Applies dq (all nodes) and sets velocities to dq / dt.
 void commitMotion(const VecX& dq, double dt, DeviceState* state);

@@ -69,40 +69,24 @@ struct SceneModel {
 };
 
 /// Statistics of the last step (reset every step; sums over its sub-steps).
+/// One step's statistics, each stage's as it measured them. The stages are
+/// consecutive on one clock (StageTimer): free_motion's three,
+/// vessel_motion_ms, contact.times' five (ContactTimes::stagesMs) and
+/// other_ms add up to wall_ms (stagesMs()).
 struct StepStats {
-  double wall_ms{0.0};            // whole step [ms]
-  double assembly_ms{0.0};        // [ms], all devices
-  double factorization_ms{0.0};   // [ms]
-  double solve_ms{0.0};           // [ms]
-  double detection_ms{0.0};       // [ms] first roots, re-detection, plane updates
-  double delassus_ms{0.0};        // [ms] W = H A^-1 H^T
-  double lcp_ms{0.0};             // [ms] status method (or the chosen solver)
-  double correction_ms{0.0};      // [ms] x = x_f + A^-1 H^T lambda
-  double curvature_ms{0.0};       // [ms] the wall's curvature term: A + C, its factor and step
-  double vessel_motion_ms{0.0};   // [ms] effect 'vessel_motion': the motion snapshot
-  double device_contact_ms{0.0};  // [ms] effect 'device_contact': pair detection
-  double coaxial_ms{0.0};         // [ms] effect 'coaxial': lumen detection
-  // (device_contact_ms and coaxial_ms are parts of detection_ms; the other
-  // stages are disjoint: their sum is at most wall_ms)
-  int contacts{0};          // contacts of the last LCP
-  int active_contacts{0};   // with a positive force
-  int sliding_contacts{0};  // effect 'friction': on the cone's boundary
-  int activation_loops{0};  // most loops of a (sub-)step
-  int lcp_iterations{0};
-  double lcp_residual{0.0};       // worst natural-map residual
-  int subdivisions{0};            // sub-steps added by halving
-  double max_penetration_m{0.0};  // [m] deepest point beyond the wall at the end
-  int tunnels{0};  // points whose path from x_t crossed a wall into another lumen, re-solved
-  int on_demand_loops{0};  // activation loops whose W was formed column by column as the
-                           // status method read them (contact.columns_on_demand)
-  int first_rows{0};       // rows of the first activation loop's LCP (of the last sub-step)
-  int kept_rows{0};        // rows whose entries of W a loop kept from the last, summed over the
-                           // loops (contact.row_turn)
-  int slid_forces{0};      // forces new pairs took over from the last step's neighbouring pairs
-                           // as warm starts (contact.slid_pair_warm_start)
-  LateRows late_rows;      // rows the activation loops added after their first LCP, summed over
-                           // sub-steps: the contacts each loop found late, by kind
-  bool asleep{false};      // the scene slept through this step (SleepOptions): nothing was solved
+  double wall_ms{0.0};           // whole step [ms]
+  FreeMotionTimes free_motion;   // [ms] all devices, every attempt
+  double vessel_motion_ms{0.0};  // [ms] effect 'vessel_motion': the motion snapshot
+  ContactStats contact;          // times of every attempt, results of the accepted sub-steps
+  double other_ms{0.0};  // [ms] the rest: script, drives, state copies, tips, forces, targets
+  int subdivisions{0};   // sub-steps added by halving
+  bool asleep{false};    // the scene slept through this step (SleepOptions): nothing was solved
+
+  /// The stages' sum [ms]: wall_ms to the clock's rounding.
+  double stagesMs() const {
+    return free_motion.assembly_ms + free_motion.factorization_ms + free_motion.solve_ms +
+           vessel_motion_ms + contact.times.stagesMs() + other_ms;
+  }
 };
 
 enum class StepStatus { kOk, kSolverFailure, kContactsUnsolved };

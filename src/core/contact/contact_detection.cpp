@@ -490,13 +490,13 @@ bool detectOnFreeMotion(const ContactProblem& pb, const ContactOptions& o, Sampl
         st->slid_forces += takeOverSlidForce(f, kept, s);
     }
     ++st->pair_passes;
-    st->pairs_ms += msSince(tp);
+    st->times.device_contact_ms += msSince(tp);
   }
   if (pb.outer_of && !pb.outer_of->empty()) {  // effect 'coaxial'
     const auto tl = Clock::now();
     detectLumenContacts(pb, o.penetration_tolerance, s);
     ++st->lumen_passes;
-    st->lumen_ms += msSince(tl);
+    st->times.coaxial_ms += msSince(tl);
   }
   return stranded;
 }
@@ -511,14 +511,14 @@ bool redetect(const ContactProblem& pb, const ContactOptions& o, SampleFields* f
     const auto tp = Clock::now();
     ++st->pair_passes;
     solved = redetectPairs(pb, o, s) && solved;
-    st->pairs_ms += msSince(tp);
+    st->times.device_contact_ms += msSince(tp);
   }
   if (pb.outer_of && !pb.outer_of->empty()) {  // effect 'coaxial'
     const auto tl = Clock::now();
     ++st->lumen_passes;
     solved = redetectLumen(pb, o, s, &deepest) && solved;
     deepest.store(st);
-    st->lumen_ms += msSince(tl);
+    st->times.coaxial_ms += msSince(tl);
   }
   return solved;
 }
@@ -540,7 +540,7 @@ bool checkTunnels(const ContactProblem& pb, const ContactOptions& o, SampleField
           tunnelExit(*pb.surface, p0, field->start(d, k, p0, sp.radius, pb.motion), p,
                      field->end(d, k, p, sp.radius, pb.motion), sp.radius, pb.motion, o.root);
       if (!exit.hit) continue;
-      ++st->tunnelled;
+      ++st->tunnels;
       none = false;
       s->contact_of[d][k] = static_cast<int>(s->contacts->size());
       s->contacts->push_back(

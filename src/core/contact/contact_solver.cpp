@@ -213,14 +213,17 @@ bool loopSolved(const ContactProblem& pb, const ContactOptions& o, int loop, boo
 }  // namespace activation
 
 bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
-                     std::vector<Contact>* contacts, ContactStats* st) {
+                     std::vector<Contact>* contacts, ContactStats* st, StageTimer* timer) {
   using namespace activation;
+  StageTimer own;
+  StageTimer& clock = timer ? *timer : own;
   auto& ws = *pb.workspaces;
   contacts->clear();
   *st = ContactStats{};
+  ContactTimes& times = st->times;
 
   // --- Detection on [x_t, x_f] ----------------------------------------------
-  auto t0 = Clock::now();
+  clock.begin();
   LoopState s(pb, contacts);
   if (pb.end) s.x.swap(*pb.end);  // its storage, for the iterates (placeIterate)
   // The field at each sample's x_t and at the loop's x, where a certified
@@ -245,7 +248,7 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     restartAtFreeMotion(pb, &s);
     stranded = detectOnFreeMotion(pb, o, &field, &s, &detect_later, st);
   }
-  st->detection_ms += msSince(t0);
+  clock.end(&times.detection_ms);
 
   // --- The activation loop ----------------------------------------------------
   bool solved = contacts->empty() && !stranded;
@@ -259,20 +262,20 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
     LoopSystem sys;
     sys.c = static_cast<int>(contacts->size());
     sys.m = dim * sys.c;
-    t0 = Clock::now();
+    clock.begin();
     prepareFreeMotion(pb, o, loop, &s, &sys);  // A, or A + C: the wall's curvature
-    st->curvature_ms += msSince(t0);
+    clock.end(&times.curvature_ms);
 
-    t0 = Clock::now();
+    clock.begin();
     formContactProblem(pb, o, &s, &sys);  // H, q at x; W = H A^-1 H^T
-    st->delassus_ms += msSince(t0);
+    clock.end(&times.delassus_ms);
     st->on_demand_loops += sys.columns ? 1 : 0;
     st->kept_rows += sys.kept_rows;
 
-    t0 = Clock::now();
     VecX lambda;
+    clock.begin();
     const LcpStatus status = solveForces(pb, o, *contacts, sys, &lambda, st);
-    st->lcp_ms += msSince(t0);
+    clock.end(&times.lcp_ms);
     st->contacts = sys.c;
     if (loop == 1) st->first_rows = sys.c;
     if (pb.record)
@@ -285,13 +288,13 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
       return false;
     }
 
-    t0 = Clock::now();
+    clock.begin();
     correctMotion(pb, sys, lambda, &s);  // x = x_f + A^-1 H^T lambda
-    st->correction_ms += msSince(t0);
+    clock.end(&times.correction_ms);
 
-    t0 = Clock::now();
+    clock.begin();
     solved = loopSolved(pb, o, loop, detect_later, sys, &field, &s, st);
-    st->detection_ms += msSince(t0);
+    clock.end(&times.detection_ms);
   }
 
   if (last_status == LcpStatus::kUnsolved) {  // the points placed or not, the forces no answer
@@ -311,6 +314,39 @@ bool resolveContacts(const ContactProblem& pb, const ContactOptions& o,
   for (size_t d = 0; d < ws.size(); ++d) ws[d].dq = s.dq[d];
   if (pb.end) pb.end->swap(s.x);  // x_t (+) s.dq: placeIterate's, as commitMotion's
   return solved;
+}
+
+ContactTimes& ContactTimes::operator+=(const ContactTimes& o) {
+  detection_ms += o.detection_ms;
+  curvature_ms += o.curvature_ms;
+  delassus_ms += o.delassus_ms;
+  lcp_ms += o.lcp_ms;
+  correction_ms += o.correction_ms;
+  device_contact_ms += o.device_contact_ms;
+  coaxial_ms += o.coaxial_ms;
+  return *this;
+}
+
+void ContactStats::addSubStep(const ContactStats& sub) {
+  contacts = sub.contacts;
+  active_contacts = sub.active_contacts;
+  sliding_contacts = sub.sliding_contacts;
+  friction_solves += sub.friction_solves;
+  activation_loops = std::max(activation_loops, sub.activation_loops);
+  lcp_iterations += sub.lcp_iterations;
+  lcp_residual = std::max(lcp_residual, sub.lcp_residual);
+  max_penetration_m = sub.max_penetration_m;
+  deepest_device = sub.deepest_device;
+  deepest_point = sub.deepest_point;
+  lcp_status = sub.lcp_status;
+  tunnels += sub.tunnels;
+  pair_passes += sub.pair_passes;
+  lumen_passes += sub.lumen_passes;
+  on_demand_loops += sub.on_demand_loops;
+  kept_rows += sub.kept_rows;
+  slid_forces += sub.slid_forces;
+  first_rows = sub.first_rows;
+  late_rows += sub.late_rows;
 }
 
 }  // namespace evsim

@@ -3,7 +3,6 @@
 #include "endovascular_sim/mechanics/implicit_euler.h"
 
 #include <algorithm>
-#include <chrono>
 
 #include "endovascular_sim/mechanics/blood_drag.h"
 #include "endovascular_sim/mechanics/elasticity.h"
@@ -11,15 +10,6 @@
 #include "endovascular_sim/mechanics/so3.h"
 
 namespace evsim {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-}  // namespace
 
 Mat6 nodeMass(const DeviceModel& model, const DeviceState& state, int node) {
   Mat6 m = Mat6::Zero();
@@ -31,8 +21,10 @@ Mat6 nodeMass(const DeviceModel& model, const DeviceState& state, int node) {
 
 bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const Vec3& gravity,
                        double dt, const DeviceState& state, DeviceWorkspace* ws,
-                       FreeMotionTimes* times, bool sheath_hold) {
-  const auto t0 = Clock::now();
+                       FreeMotionTimes* times, StageTimer* timer, bool sheath_hold) {
+  StageTimer own;
+  StageTimer& clock = timer ? *timer : own;
+  clock.begin();
   const int n = model.num_nodes;
   int held = state.released ? -1 : lastHeldNode(model, state.inserted_length);
   if (state.cut_element >= 0) held = std::min(held, state.cut_element);  // never the coil's
@@ -94,18 +86,19 @@ bool computeFreeMotion(const DeviceModel& model, const Introducer& intro, const 
     A.diag[hold.node] += hold.hessian;
     ws->rhs.head<6>() -= hold.gradient;
   }
-  if (times) times->assembly_ms = msSince(t0);
+  clock.end(times ? &times->assembly_ms : nullptr);
 
   ws->first_free_node = first_free;
-  const auto t1 = Clock::now();
-  if (!ws->factor.factorize(A, first_free)) return false;
+  clock.begin();
+  const bool factored = ws->factor.factorize(A, first_free);
+  clock.end(times ? &times->factorization_ms : nullptr);
+  if (!factored) return false;
   if (nf == 0) return true;
-  if (times) times->factorization_ms = msSince(t1);
 
-  const auto t2 = Clock::now();
+  clock.begin();
   ws->factor.solveInPlace(&ws->rhs);
   ws->dq.tail(6 * nf) = ws->rhs;
-  if (times) times->solve_ms = msSince(t2);
+  clock.end(times ? &times->solve_ms : nullptr);
   return ws->dq.allFinite();
 }
 

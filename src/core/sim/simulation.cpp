@@ -4,7 +4,6 @@
 #include "endovascular_sim/sim/simulation.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -20,7 +19,6 @@
 namespace evsim {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
 bool sameCommand(const DriveCommand& a, const DriveCommand& b) {
   return a.mode == b.mode && a.insertion == b.insertion && a.rotation == b.rotation;
@@ -88,39 +86,6 @@ std::string unsolvedContacts(const SceneModel& model, const ContactStats& cs) {
   return why.str();
 }
 
-void addStats(const FreeMotionTimes& t, StepStats* s) {
-  s->assembly_ms += t.assembly_ms;
-  s->factorization_ms += t.factorization_ms;
-  s->solve_ms += t.solve_ms;
-}
-
-/// Timings count every attempt (their cost is real); results only accepted ones.
-void addTimes(const ContactStats& c, StepStats* s) {
-  s->detection_ms += c.detection_ms;
-  s->delassus_ms += c.delassus_ms;
-  s->lcp_ms += c.lcp_ms;
-  s->correction_ms += c.correction_ms;
-  s->curvature_ms += c.curvature_ms;
-  s->device_contact_ms += c.pairs_ms;
-  s->coaxial_ms += c.lumen_ms;
-}
-
-void addResults(const ContactStats& c, StepStats* s) {
-  s->contacts = c.contacts;
-  s->active_contacts = c.active_contacts;
-  s->sliding_contacts = c.sliding_contacts;
-  s->activation_loops = std::max(s->activation_loops, c.activation_loops);
-  s->lcp_iterations += c.lcp_iterations;
-  s->lcp_residual = std::max(s->lcp_residual, c.lcp_residual);
-  s->max_penetration_m = c.max_penetration_m;
-  s->tunnels += c.tunnelled;
-  s->on_demand_loops += c.on_demand_loops;
-  s->kept_rows += c.kept_rows;
-  s->slid_forces += c.slid_forces;
-  s->first_rows = c.first_rows;
-  s->late_rows += c.late_rows;
-}
-
 /// Device states a (sub-)step at one depth of halving works in: the new
 /// states and where the contact solver ended. Kept per thread and depth, so
 /// that a step copies into storage of the right size instead of allocating
@@ -137,24 +102,23 @@ StepBuffers& stepBuffers(int depth) {
 /// One (sub-)step of length dt from data->devices; on success the new
 /// states in *next. *moved: storage for where the contact solver ends.
 StepStatus subStep(const SceneModel& model, SimData* data, double dt,
-                   std::vector<DeviceState>* next, std::vector<DeviceState>* moved) {
+                   std::vector<DeviceState>* next, std::vector<DeviceState>* moved,
+                   StageTimer* clock) {
   *next = data->devices;
   for (size_t i = 0; i < model.devices.size(); ++i) {
     advanceDrive(data->commands[i], model.devices[i], dt, &(*next)[i],
                  i < data->stalls.size() ? data->stalls[i] : DriveStall{});
     if (model.effects.gravity) ++data->effect_calls.gravity;
     if (model.effects.blood_drag) ++data->effect_calls.blood_drag;
-    FreeMotionTimes t;
     // The sheath holds a device leaving it; a device inside another, that
     // device's lumen does.
     const bool outermost = i >= model.outer_of.size() || model.outer_of[i] < 0;
     if (!computeFreeMotion(model.devices[i], model.introducers[i], model.gravity, dt, (*next)[i],
-                           &data->workspaces[i], &t, outermost)) {
+                           &data->workspaces[i], &data->stats.free_motion, clock, outermost)) {
       data->last_error = "device '" + model.devices[i].name +
                          "': the system matrix is not positive definite or the solve diverged";
       return StepStatus::kSolverFailure;
     }
-    addStats(t, &data->stats);
   }
   std::vector<Contact> previous;  // the last (sub-)step's contacts: persisting planes
   previous.swap(data->contacts);
@@ -173,19 +137,18 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     pb.end = moved;
     if (model.effects.coaxial) pb.outer_of = &model.outer_of;
     if (model.effects.vessel_motion) {
-      const auto t0 = Clock::now();
+      clock->begin();
       pb.motion = model.surface->motionAt(data->time + dt);
+      clock->end(&data->stats.vessel_motion_ms);
       ++data->effect_calls.vessel_motion;
-      data->stats.vessel_motion_ms +=
-          std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     }
     if (data->record_lcp) {
       data->lcp = LcpRecord{};
       pb.record = &data->lcp;
     }
     ContactStats cs;
-    const bool solved = resolveContacts(pb, model.contact, &data->contacts, &cs);
-    addTimes(cs, &data->stats);
+    const bool solved = resolveContacts(pb, model.contact, &data->contacts, &cs, clock);
+    data->stats.contact.times += cs.times;
     data->effect_calls.device_contact += cs.pair_passes;
     data->effect_calls.friction += cs.friction_solves;
     data->effect_calls.coaxial += cs.lumen_passes;
@@ -194,7 +157,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
       data->last_error = unsolvedContacts(model, cs);
       return StepStatus::kContactsUnsolved;
     }
-    addResults(cs, &data->stats);
+    data->stats.contact.addSubStep(cs);
     already_moved = moved->size() == model.devices.size();
   }
   if (already_moved) next->swap(*moved);  // the same numbers commitMotion would compute
@@ -215,10 +178,11 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
 /// Advances by dt; a step whose contacts are not solved is redone as two
 /// halves, recursively up to the subdivision limit. On failure data->devices
 /// is unchanged.
-StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth) {
+StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth,
+                   StageTimer* clock) {
   StepBuffers& buffers = stepBuffers(depth);
   std::vector<DeviceState>& next = buffers.next;
-  const StepStatus status = subStep(model, data, dt, &next, &buffers.moved);
+  const StepStatus status = subStep(model, data, dt, &next, &buffers.moved, clock);
   if (status == StepStatus::kOk) {
     // Copied, not swapped: the data's node arrays keep their storage (the
     // Python front's arrays view them).
@@ -234,7 +198,7 @@ StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth)
   const double saved_time = data->time;
   data->stats.subdivisions += 1;
   for (int half = 0; half < 2; ++half) {
-    const StepStatus s = advance(model, data, 0.5 * dt, depth + 1);
+    const StepStatus s = advance(model, data, 0.5 * dt, depth + 1, clock);
     if (s != StepStatus::kOk) {
       for (size_t i = 0; i < saved.size(); ++i) copyState(saved[i], &data->devices[i]);
       data->time = saved_time;
@@ -274,8 +238,8 @@ void noteRest(const SceneModel& model, const std::vector<DriveReading>& before, 
 /// The statistics of a step slept through: the kept contacts.
 void sleepingStep(SimData* data) {
   data->stats.asleep = true;
-  data->stats.contacts = static_cast<int>(data->contacts.size());
-  for (const Contact& c : data->contacts) data->stats.active_contacts += c.force > 0.0;
+  data->stats.contact.contacts = static_cast<int>(data->contacts.size());
+  for (const Contact& c : data->contacts) data->stats.contact.active_contacts += c.force > 0.0;
 }
 
 /// The targets' dwell at data->time, from the tips where they are.
@@ -395,8 +359,8 @@ double maxWallForce(const SimData& data) {
 }
 
 StepStatus step(const SceneModel& model, SimData* data) {
-  const auto t0 = Clock::now();
   data->stats = StepStats{};
+  StageTimer clock(&data->stats.other_ms);
   applyScript(model, data);
   const double t_end = data->time + model.time_step;
   if (data->asleep) {
@@ -404,11 +368,12 @@ StepStatus step(const SceneModel& model, SimData* data) {
     ++data->step;
     sleepingStep(data);
     trackTargets(model, data);  // the tips rest where they are: a dwell goes on
-    data->stats.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    clock.begin();
+    data->stats.wall_ms = clock.elapsedMs();
     return StepStatus::kOk;
   }
   const std::vector<DriveReading> before = readDrives(*data);
-  const StepStatus status = advance(model, data, model.time_step, 0);
+  const StepStatus status = advance(model, data, model.time_step, 0, &clock);
   if (status == StepStatus::kOk) {
     data->time = t_end;  // no drift from summed halves
     ++data->step;
@@ -419,7 +384,8 @@ StepStatus step(const SceneModel& model, SimData* data) {
   } else {
     data->resting_steps = 0;
   }
-  data->stats.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  clock.begin();
+  data->stats.wall_ms = clock.elapsedMs();
   return status;
 }
 
