@@ -18,7 +18,7 @@
 // second plane. With clearances below about 50 um and steps of 1 ms the free
 // motion carries points across the whole lumen in one step; the planes then
 // chatter (a wire in a catheter kept about 1e-5 J of kinetic energy):
-// tight fits need steps of 0.2 ms (test/core/coaxial_test.cpp).
+// tight fits need steps of 0.2 ms (test/core/contact/coaxial_test.cpp).
 //
 // What follows from it: where the inner device lies against the lumen the
 // two bend together and their stiffnesses add (a wire straightens a
