@@ -62,8 +62,9 @@ struct RunResult {
   long rejected{0};
 };
 
-/// Runs the scene to `duration` simulated seconds (a rejected step is retried
-/// by the next one, as the node does; at most 4x the steps).
+/// Runs the scene to `duration` simulated seconds with the knob's own
+/// options, no recovery: a rejected step is counted and tried again (at
+/// most 4x the steps).
 RunResult runScene(const SceneSpec& spec, double duration) {
   const SceneModel model = buildSceneModel(spec);
   SimData data = makeData(model);

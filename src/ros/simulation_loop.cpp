@@ -48,7 +48,6 @@ void SimulationLoop::setScene(std::shared_ptr<const SceneModel> model, bool use_
   use_script_ = use_script;
   data_ = makeData(*model_);
   if (!use_script_) data_.next_script_entry = model_->script.size();
-  rejections_ = 0;
   wrench_filters_.clear();
   {
     std::lock_guard<std::mutex> status(status_mutex_);
@@ -66,7 +65,6 @@ void SimulationLoop::reset() {
   endNavigation("pre-empted by a reset");
   data_ = makeData(*model_);
   if (!use_script_) data_.next_script_entry = model_->script.size();
-  rejections_ = 0;
   wrench_filters_.clear();
   {
     std::lock_guard<std::mutex> status(status_mutex_);
@@ -236,30 +234,18 @@ void SimulationLoop::notice(const std::string& text) {
   if (notices_.size() < 100) notices_.push_back(text);  // nobody reading: keep the first
 }
 
-bool SimulationLoop::onRejectedStep() {
-  ++rejections_;
-  const std::string why = data_.last_error;
-  {
-    std::lock_guard<std::mutex> status(status_mutex_);
-    last_error_ = why;  // the state is kept; tried again next frame
-  }
-  std::ostringstream at;
-  at << "step at t = " << data_.time << " s rejected (" << rejections_ << "x): " << why;
-  if (rejections_ < kRejectionsBeforeRecovery) {
-    notice(at.str() + "; the state is kept and the step tried again");
-    return false;
-  }
+void SimulationLoop::onRecoveredStep() {
   const SceneModel recovery = evsim::recoveryModel(*model_);
-  if (step(recovery, &data_) == StepStatus::kOk) {
-    rejections_ = 0;
-    notice(at.str() + "; recovered: this step solved with the status method, " +
-           std::to_string(recovery.contact.max_activation_loops) + " activation loops and " +
-           std::to_string(recovery.contact.max_subdivisions) +
-           " halvings; the scene's options apply again from the next step");
-    return true;
-  }
+  notice("step at t = " + std::to_string(data_.time - model_->time_step) +
+         " s rejected: " + data_.last_error +
+         "; recovered: this step solved with the status method, " +
+         std::to_string(recovery.contact.max_activation_loops) + " activation loops and " +
+         std::to_string(recovery.contact.max_subdivisions) +
+         " halvings; the scene's options apply again from the next step");
+}
+
+void SimulationLoop::onFailedStep() {
   paused_ = true;
-  rejections_ = 0;
   const std::string error = "paused at t = " + std::to_string(data_.time) +
                             " s: the step cannot be solved even with the recovery options (" +
                             data_.last_error +
@@ -270,7 +256,6 @@ bool SimulationLoop::onRejectedStep() {
     last_error_ = error;
   }
   notice(error);
-  return false;
 }
 
 double SimulationLoop::runFrame() {
@@ -284,15 +269,17 @@ double SimulationLoop::runFrame() {
     std::lock_guard<std::mutex> lock(mutex_);
     if (paused_ || !model_) break;
     if (pilot_) shareNavigation(pilot_->control(*model_, &data_));
-    if (step(*model_, &data_) != StepStatus::kOk && !onRejectedStep()) {
-      if (pilot_ && paused_) {  // the recovery failed too: the navigation ends
+    bool recovered = false;
+    if (stepOrRecover(*model_, &data_, &recovered) != StepStatus::kOk) {
+      onFailedStep();
+      if (pilot_) {  // the recovery failed too: the navigation ends
         pilot_->observe(data_, /*step_failed=*/true);
         endNavigation("the simulation paused: " + lastError());
       }
       shareState();  // (paused, or the same state)
       break;
     }
-    rejections_ = 0;
+    if (recovered) onRecoveredStep();
     if (pilot_) {
       pilot_->observe(data_, /*step_failed=*/false);
       if (pilot_->done()) endNavigation("");

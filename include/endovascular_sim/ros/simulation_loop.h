@@ -6,11 +6,10 @@
 // (no burst of catch-up frames). Everything here is safe to call from other
 // threads while the loop runs.
 //
-// A step that cannot be solved keeps the state and is tried again next
-// frame. After kRejectionsBeforeRecovery rejections of the same state the
-// loop applies its recovery for that one step (the status method, more
-// activation loops, halving on: recoveryOptions); if even that fails, it
-// pauses with an error. Each rejection and recovery is told in notices.
+// A step that the scene's options cannot solve is solved at once with the
+// recovery options, as every runner does (stepOrRecover, sim/simulation.h);
+// if even that fails, the loop pauses with an error at the last good
+// state. Each recovery and failure is told in notices.
 //
 // The loop can run the core's autopilot (sim/autopilot.h) to a named
 // vessel: it sets the drive commands before every step and watches each
@@ -95,10 +94,6 @@ class SimulationLoop {
   void setWrenchCutoff(double cutoff_hz);
   static constexpr size_t kMaxWrenchSamples = 100000;
 
-  /// Rejections of one state before the recovery step (with
-  /// evsim::recoveryModel, sim/simulation.h).
-  static constexpr int kRejectionsBeforeRecovery = 3;
-
  private:
   void run();
   /// The lock for callers other than the loop: they announce themselves so
@@ -110,9 +105,10 @@ class SimulationLoop {
 
   /// Copies what the publisher shows into latest_ (mutex_ held).
   void shareState();
-  /// A step was rejected (mutex_ held): counts it, recovers or pauses.
-  /// Returns true when the recovery step succeeded.
-  bool onRejectedStep();
+  /// A step was solved only with the recovery options (mutex_ held): tells it.
+  void onRecoveredStep();
+  /// A step failed even with them (mutex_ held): pauses with the error.
+  void onFailedStep();
   void notice(const std::string& text);  // (status_mutex_ not held)
   /// Ends the autopilot (mutex_ held): its report kept (`why` the reason
   /// when it had not ended by itself), the devices stopped.
@@ -134,7 +130,6 @@ class SimulationLoop {
   LoopTiming timing_;
   std::string last_error_;
   std::vector<std::string> notices_;
-  int rejections_{0};                                      // of the current state (mutex_)
   std::unique_ptr<Autopilot> pilot_;                       // the running navigation (mutex_)
   NavigationStatus navigation_;                            // (status_mutex_)
   double wrench_cutoff_hz_{0.0};                           // (mutex_)

@@ -182,12 +182,14 @@ StepStatus step(const SceneModel& model, SimData* data);
 
 /// The scene for a step that failed with the scene's own options: the
 /// status method with its default tolerance and pivot limit, at least 40
-/// activation loops and 8 halvings, the effect 'subdivision' on. The node
-/// and evsim retry a failed step with it once, and say so.
+/// activation loops and 8 halvings, the effect 'subdivision' on.
 SceneModel recoveryModel(const SceneModel& model);
 
-/// step(), and when it fails, the same step again with recoveryModel
-/// (*recovered set then). kOk when either succeeded.
+/// The one recovery policy of every runner (evsim, the node, Python,
+/// rollouts): step(), and when it fails, the same step again at once with
+/// recoveryModel (*recovered set then, data->last_error saying why the
+/// scene's options failed). kOk when either succeeded; otherwise the data
+/// is at the last good step and data->last_error says why both failed.
 StepStatus stepOrRecover(const SceneModel& model, SimData* data, bool* recovered);
 
 }  // namespace evsim

@@ -327,7 +327,7 @@ StepStatus stepOrRecover(const SceneModel& model, SimData* data, bool* recovered
   const std::string why = data->last_error;
   const StepStatus retry = step(recoveryModel(model), data);
   *recovered = retry == StepStatus::kOk;
-  if (!*recovered) data->last_error = why + "; with the recovery options: " + data->last_error;
+  data->last_error = *recovered ? why : why + "; with the recovery options: " + data->last_error;
   return retry;
 }
 
