@@ -72,6 +72,9 @@ struct ContactOptions {
   bool element_pairs{false};           // device pairs between elements' axes, not sample points
   bool wall_curvature{true};           // the wall's curvature in A (contact/wall_curvature.h)
   int curvature_loops{1000};           // loops that update C (then A + C and its band are kept)
+  // Test seams, not scene keys (retiredSceneKeys, scene/scene_schema.h):
+  // either setting of these four gives the same answer, their tests compare
+  // the two; the faster one is the default and the only one scenes get.
   bool interior_balls{true};           // spare evaluations in certified balls (sample_fields.h)
   bool detect_on_first_iterate{true};  // with kept contacts, detect on x_t -> x_1, not -> x_f
   bool predict_first_iterate{false};   // detect and linearise the first loop at x_f + A^-1 H^T f,

@@ -52,6 +52,19 @@ struct SchemaEntry {
 /// The scene format, parents before their keys.
 const std::vector<SchemaEntry>& sceneSchema();
 
+/// A key the format no longer has, and what replaced it.
+struct RetiredKey {
+  std::string path;  // "contact.interior_balls"
+  std::string why;   // "... : remove the key"
+};
+
+/// Keys a scene may still carry from an older format: refused at load with
+/// their `why`, not as unknown keys.
+const std::vector<RetiredKey>& retiredSceneKeys();
+
+/// The retired key at `path` ("contact.interior_balls"), or nullptr.
+const RetiredKey* findRetiredKey(const std::string& path);
+
 /// One problem of a file against the schema.
 struct SchemaProblem {
   int line{0}, column{0};  // 1-based; 0 unknown

@@ -159,6 +159,11 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
 
 ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   ContactOptions o;
+  if (n.IsMap())
+    for (const auto& entry : n)
+      if (entry.first.IsScalar())
+        if (const RetiredKey* retired = findRetiredKey("contact." + entry.first.Scalar()))
+          r.fail(entry.first, retired->path, retired->why);
   r.keys(n, "contact",
          {"solver",
           "tolerance",
@@ -176,11 +181,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
           "root_tolerance",
           "wall_curvature",
           "curvature_loops",
-          "interior_balls",
-          "detect_on_first_iterate",
           "predict_first_iterate",
-          "columns_on_demand",
-          "slid_pair_warm_start",
           "lumen_settle",
           "friction_solver",
           "friction_tolerance",
@@ -221,11 +222,7 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   };
   o.wall_curvature = flag("wall_curvature", o.wall_curvature);
   o.curvature_loops = whole("curvature_loops", o.curvature_loops);
-  o.interior_balls = flag("interior_balls", o.interior_balls);
-  o.detect_on_first_iterate = flag("detect_on_first_iterate", o.detect_on_first_iterate);
   o.predict_first_iterate = flag("predict_first_iterate", o.predict_first_iterate);
-  o.columns_on_demand = flag("columns_on_demand", o.columns_on_demand);
-  o.slid_pair_warm_start = flag("slid_pair_warm_start", o.slid_pair_warm_start);
   o.element_pairs = flag("element_pairs", o.element_pairs);
   o.lumen_tolerance = r.number(n, "lumen_tolerance", "contact.", o.lumen_tolerance);
   o.lumen_settle = r.number(n, "lumen_settle", "contact.", o.lumen_settle);

@@ -253,24 +253,10 @@ std::vector<SchemaEntry> makeSchema() {
       Key("contact.curvature_loops", T::kInteger, "loops that update the curvature term")
           .def("1000")
           .in("[]", 1, 1000),
-      Key("contact.interior_balls", T::kBool,
-          "skip field evaluations of points in a ball the field certifies free of the wall")
-          .def("true"),
-      Key("contact.detect_on_first_iterate", T::kBool,
-          "with wall contacts kept from the last step, detect on the path to the first loop's "
-          "iterate (false: on the free motion's)")
-          .def("true"),
       Key("contact.predict_first_iterate", T::kBool,
           "the first loop detects and linearises at the free motion moved by the last step's "
           "contact forces, not at the free motion (docs/model.md)")
           .def("false"),
-      Key("contact.columns_on_demand", T::kBool,
-          "frictionless status method: W's columns formed as the method reads them")
-          .def("true"),
-      Key("contact.slid_pair_warm_start", T::kBool,
-          "element pairs: a new pair next to one kept from the last step takes over its force as "
-          "the first loop's warm start (a contact slid past a node; docs/performance.md)")
-          .def("true"),
       Key("contact.element_pairs", T::kBool,
           "effect 'device_contact': pairs between the elements' axes, at their closest points, "
           "with a swept test over each step (false: between sample points; docs/model.md)")
@@ -423,6 +409,32 @@ std::vector<SchemaEntry> makeSchema() {
 const std::vector<SchemaEntry>& sceneSchema() {
   static const std::vector<SchemaEntry> schema = makeSchema();
   return schema;
+}
+
+const std::vector<RetiredKey>& retiredSceneKeys() {
+  // Switches whose two settings give the same answer (their tests prove
+  // it): the faster one is always on; remove the key.
+  static const std::vector<RetiredKey> keys = {
+      {"contact.interior_balls",
+       "is no longer a scene key: the certified interior balls always spare field evaluations "
+       "(either setting gave the same contacts); remove the key"},
+      {"contact.detect_on_first_iterate",
+       "is no longer a scene key: kept wall contacts are always detected on the path to the "
+       "first loop's iterate (either setting gave the same answer); remove the key"},
+      {"contact.columns_on_demand",
+       "is no longer a scene key: the status method always forms W's columns as it reads them "
+       "where that is cheaper (the same W, the same answer); remove the key"},
+      {"contact.slid_pair_warm_start",
+       "is no longer a scene key: a new element pair next to a kept one always takes over its "
+       "force as a warm start (the LCP has one answer); remove the key"},
+  };
+  return keys;
+}
+
+const RetiredKey* findRetiredKey(const std::string& path) {
+  for (const RetiredKey& k : retiredSceneKeys())
+    if (k.path == path) return &k;
+  return nullptr;
 }
 
 }  // namespace evsim

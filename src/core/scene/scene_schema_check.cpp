@@ -140,6 +140,11 @@ class Checker {
         continue;
       }
       const auto it = by_path_.find(schema_path.empty() ? name : schema_path + "." + name);
+      if (const RetiredKey* retired =
+              findRetiredKey(schema_path.empty() ? name : schema_path + "." + name)) {
+        add(kv.first, key, retired->why);
+        continue;
+      }
       if (it == by_path_.end() || isItem(it->first)) {
         add(kv.first, key,
             "unknown key '" + name + "'" + suggestion(name, names) +

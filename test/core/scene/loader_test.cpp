@@ -1,6 +1,7 @@
 // Device and scene files: shipped ones load; each kind of bad input gives an
 // error that names the file, the line and the field, and nothing crashes.
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include "endovascular_sim/geometry/centerline.h"
 #include "endovascular_sim/scene/device_file.h"
 #include "endovascular_sim/scene/scene_file.h"
+#include "endovascular_sim/scene/scene_schema.h"
 #include "endovascular_sim/sim/simulation.h"
 #include "loader_fixture.h"
 
@@ -115,6 +117,31 @@ TEST_F(Loader, PairToleranceIsReadAndChecked) {
   expectNames(
       sceneError("effects: [gravity]\n", "effects: [gravity]\ncontact: {pair_tolerance: 0.001}\n"),
       "scene.yaml", 4, "contact.pair_tolerance", "must lie in [0, 1e-4] m, got 0.001");
+}
+
+TEST_F(Loader, ARetiredContactKeyIsRefusedWithWhatReplacedIt) {
+  // Each retired key (either setting gave the same answer) is refused by the
+  // loader and by the schema check, with its own reason, not as unknown.
+  for (const RetiredKey& retired : retiredSceneKeys()) {
+    const std::string key = retired.path.substr(retired.path.find('.') + 1);
+    SCOPED_TRACE(retired.path);
+    expectNames(sceneError("effects: [gravity]\n",
+                           "effects: [gravity]\ncontact: {" + key + ": false}\n"),
+                "scene.yaml", 4, retired.path, "is no longer a scene key");
+    const std::vector<SchemaProblem> problems =
+        checkSceneSchema(YAML::Load("contact: {" + key + ": true}"));
+    int told = 0;  // (the keys this fragment lacks are problems too)
+    for (const SchemaProblem& p : problems)
+      if (p.key == retired.path) {
+        EXPECT_EQ(p.what, retired.why);
+        ++told;
+      }
+    EXPECT_EQ(told, 1);
+  }
+  // What replaced them: the default a scene without the key runs with.
+  const ContactOptions defaults = loadSceneFile(write("plain.yaml", kScene)).contact;
+  EXPECT_TRUE(defaults.interior_balls && defaults.detect_on_first_iterate &&
+              defaults.columns_on_demand && defaults.slid_pair_warm_start);
 }
 
 TEST_F(Loader, MissingFieldIsNamed) {
