@@ -9,9 +9,9 @@
 #include "commands.h"
 #include "endovascular_sim/sim/simulation.h"
 #include "endovascular_sim/sim/state_file.h"
+#include "endovascular_sim/sim/step_json.h"
 #include "output_paths.h"
 #include "scene_source.h"
-#include "endovascular_sim/sim/step_json.h"
 #include "vtk_output.h"
 
 namespace evsim {
@@ -46,8 +46,8 @@ void printProgress(const SceneModel& model, const SimData& data, double mean_ste
       std::cout << "  " << model.devices[i].name << " in "
                 << model.atlas->vessels()[data.tips[i].vessel].name << " at "
                 << data.tips[i].depth * 1e3 << " mm";
-  std::cout << "  contacts=" << data.stats.contact.contacts << "  mean step " << mean_step_ms << " ms"
-            << (data.stats.asleep ? "  asleep" : "") << "\n";
+  std::cout << "  contacts=" << data.stats.contact.contacts << "  mean step " << mean_step_ms
+            << " ms" << (data.stats.asleep ? "  asleep" : "") << "\n";
 }
 
 /// The step's LCP written to the --dump-lcp folder; false when it cannot be.

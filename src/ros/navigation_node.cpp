@@ -272,8 +272,8 @@ void NavigationNode::onProgressTimer(const ros::WallTimerEvent&) {
          << 1e3 * f.devices[i].inserted_length << " mm in, tip (" << tip.x() << ", " << tip.y()
          << ", " << tip.z() << ") mm";
   }
-  line << " | " << f.stats.contact.contacts << " contacts | " << std::setprecision(1) << publish_rate_hz_
-       << " Hz | RTF " << std::setprecision(2) << timing.real_time_factor
+  line << " | " << f.stats.contact.contacts << " contacts | " << std::setprecision(1)
+       << publish_rate_hz_ << " Hz | RTF " << std::setprecision(2) << timing.real_time_factor
        << (f.paused ? " | paused" : "");
   ROS_INFO_STREAM(line.str());
 }

@@ -236,9 +236,8 @@ void SimulationLoop::notice(const std::string& text) {
 
 void SimulationLoop::onRecoveredStep() {
   const SceneModel recovery = evsim::recoveryModel(*model_);
-  notice("step at t = " + std::to_string(data_.time - model_->time_step) +
-         " s rejected: " + data_.last_error +
-         "; recovered: this step solved with the status method, " +
+  notice("step at t = " + std::to_string(data_.time - model_->time_step) + " s rejected: " +
+         data_.last_error + "; recovered: this step solved with the status method, " +
          std::to_string(recovery.contact.max_activation_loops) + " activation loops and " +
          std::to_string(recovery.contact.max_subdivisions) +
          " halvings; the scene's options apply again from the next step");

@@ -77,7 +77,8 @@ void drive(const std::string& scene, long steps, Outcome* result, const Observer
       ASSERT_LT(ke, bound) << scene << " step " << k + 1 << ": kinetic energy";
       out.max_kinetic_energy_J = std::max(out.max_kinetic_energy_J, ke);
     }
-    ASSERT_LE(data.stats.contact.max_penetration_m, tolerance + 1e-12) << scene << " step " << k + 1;
+    ASSERT_LE(data.stats.contact.max_penetration_m, tolerance + 1e-12)
+        << scene << " step " << k + 1;
     ASSERT_LE(data.stats.subdivisions, subdivision_limit) << scene << " step " << k + 1;
     out.max_penetration_m = std::max(out.max_penetration_m, data.stats.contact.max_penetration_m);
     out.max_active_contacts = std::max(out.max_active_contacts, data.stats.contact.active_contacts);

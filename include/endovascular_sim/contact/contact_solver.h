@@ -69,9 +69,9 @@ struct ContactOptions {
                          // far from its plane (and at least penetration_tolerance) starts the
                          // next step [m]: about the wall's travel in a step where vessels move
   RootOptions root;      // first-root search
-  bool element_pairs{false};           // device pairs between elements' axes, not sample points
-  bool wall_curvature{true};           // the wall's curvature in A (contact/wall_curvature.h)
-  int curvature_loops{1000};           // loops that update C (then A + C and its band are kept)
+  bool element_pairs{false};  // device pairs between elements' axes, not sample points
+  bool wall_curvature{true};  // the wall's curvature in A (contact/wall_curvature.h)
+  int curvature_loops{1000};  // loops that update C (then A + C and its band are kept)
   // Test seams, not scene keys (retiredSceneKeys, scene/scene_schema.h):
   // either setting of these four gives the same answer, their tests compare
   // the two; the faster one is the default and the only one scenes get.
@@ -171,17 +171,17 @@ struct ContactTimes {
 /// What one contact resolution found, and (in StepStats) a step's over its
 /// accepted sub-steps (addSubStep).
 struct ContactStats {
-  int contacts{0};          // rows of the last LCP
-  int active_contacts{0};   // with a positive force
-  int sliding_contacts{0};  // effect 'friction': on the cone's boundary
-  int friction_solves{0};   // frictional problems solved (effect 'friction')
-  int activation_loops{0};  // of the resolution (a step's: the most of its sub-steps)
-  int lcp_iterations{0};    // summed over the loops (and sub-steps)
-  double lcp_residual{0.0};                  // natural-map residual of the last LCP (step: worst)
-  double max_penetration_m{0.0};             // deepest sample point beyond the wall at the end [m]
-                                             // (infinite: outside the vessel tree)
-  int deepest_device{-1};                    // that point's device (-1: none beyond)
-  Vec3 deepest_point{Vec3::Zero()};          // and position [m]
+  int contacts{0};                   // rows of the last LCP
+  int active_contacts{0};            // with a positive force
+  int sliding_contacts{0};           // effect 'friction': on the cone's boundary
+  int friction_solves{0};            // frictional problems solved (effect 'friction')
+  int activation_loops{0};           // of the resolution (a step's: the most of its sub-steps)
+  int lcp_iterations{0};             // summed over the loops (and sub-steps)
+  double lcp_residual{0.0};          // natural-map residual of the last LCP (step: worst)
+  double max_penetration_m{0.0};     // deepest sample point beyond the wall at the end [m]
+                                     // (infinite: outside the vessel tree)
+  int deepest_device{-1};            // that point's device (-1: none beyond)
+  Vec3 deepest_point{Vec3::Zero()};  // and position [m]
   LcpStatus lcp_status{LcpStatus::kSolved};  // not kSolved: the loop stopped at a failed LCP, or
                                              // ended on an unsolved one (lcp.h)
   int tunnels{0};  // loop iterates inside a vessel whose path from x_t crossed a wall, re-solved

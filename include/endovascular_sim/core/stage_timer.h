@@ -26,7 +26,9 @@ class StageTimer {
   void end(double* stage_ms) { charge(stage_ms ? stage_ms : rest_ms_); }
 
   /// From the start to the last mark [ms]: the sum of everything charged.
-  double elapsedMs() const { return std::chrono::duration<double, std::milli>(mark_ - start_).count(); }
+  double elapsedMs() const {
+    return std::chrono::duration<double, std::milli>(mark_ - start_).count();
+  }
 
  private:
   void charge(double* ms) {

@@ -19,7 +19,6 @@
 namespace evsim {
 namespace {
 
-
 bool sameCommand(const DriveCommand& a, const DriveCommand& b) {
   return a.mode == b.mode && a.insertion == b.insertion && a.rotation == b.rotation;
 }

@@ -4,12 +4,13 @@
 // from which vessel each branch leaves, the draws' frequencies and radii
 // against the statistics, no two lumens through each other, the surface
 // against the radii, and the VMTK-style file read back as a patient's.
+#include "endovascular_sim/geometry/arch_generator.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 
-#include "endovascular_sim/geometry/arch_generator.h"
 #include "endovascular_sim/geometry/surface_fidelity.h"
 #include "endovascular_sim/geometry/vessel_atlas.h"
 #include "endovascular_sim/geometry/vessel_field.h"
@@ -127,15 +128,16 @@ TEST(ArchGenerator, NoTwoLumensPassThroughEachOther) {
         const std::string& nb = c.vessel_names[b];
         // (The aorta's three parts are one tube.)
         if (na.find("aort") != std::string::npos && nb.find("aort") != std::string::npos) continue;
-        const bool related = (c.parent[pointsOf(c, na).front()] >= 0 && parentVessel(c, na) == nb) ||
-                             (c.parent[pointsOf(c, nb).front()] >= 0 && parentVessel(c, nb) == na);
+        const bool related =
+            (c.parent[pointsOf(c, na).front()] >= 0 && parentVessel(c, na) == nb) ||
+            (c.parent[pointsOf(c, nb).front()] >= 0 && parentVessel(c, nb) == na);
         const std::vector<int> pa = beyondOstium(na, related ? 2.0 : 1.0),
                                pb = beyondOstium(nb, related ? 2.0 : 1.0);
         double closest = 1e9;
         for (int i : pa)
           for (int j : pb)
-            closest = std::min(closest, (c.position[i] - c.position[j]).norm() - c.radius[i] -
-                                            c.radius[j]);
+            closest = std::min(closest,
+                               (c.position[i] - c.position[j]).norm() - c.radius[i] - c.radius[j]);
         EXPECT_GT(closest, 0.0) << na << " / " << nb;
       }
   }
@@ -145,9 +147,10 @@ TEST(ArchGenerator, TheSurfaceKeepsTheRadii) {
   const ArchParameters p = drawArch(7);
   const Centerline c = archCenterline(p);
   const SurfaceFidelity f = measureSurfaceFidelity(VesselField(c, {}, {}, {}), c);
-  std::printf("[ metric   ] generated arch: lumen radius against the centreline's, along the "
-              "vessels median %.2f %% worst %.2f %% (%d rays); at forks median %.2f %%\n",
-              100 * f.along.median, 100 * f.along.worst, f.along.rays, 100 * f.at_forks.median);
+  std::printf(
+      "[ metric   ] generated arch: lumen radius against the centreline's, along the "
+      "vessels median %.2f %% worst %.2f %% (%d rays); at forks median %.2f %%\n",
+      100 * f.along.median, 100 * f.along.worst, f.along.rays, 100 * f.at_forks.median);
   EXPECT_GT(f.along.rays, 500);
   EXPECT_LT(f.along.median, 0.03);
   EXPECT_LT(f.along.worst, 0.15);

@@ -125,9 +125,9 @@ TEST_F(Loader, ARetiredContactKeyIsRefusedWithWhatReplacedIt) {
   for (const RetiredKey& retired : retiredSceneKeys()) {
     const std::string key = retired.path.substr(retired.path.find('.') + 1);
     SCOPED_TRACE(retired.path);
-    expectNames(sceneError("effects: [gravity]\n",
-                           "effects: [gravity]\ncontact: {" + key + ": false}\n"),
-                "scene.yaml", 4, retired.path, "is no longer a scene key");
+    expectNames(
+        sceneError("effects: [gravity]\n", "effects: [gravity]\ncontact: {" + key + ": false}\n"),
+        "scene.yaml", 4, retired.path, "is no longer a scene key");
     const std::vector<SchemaProblem> problems =
         checkSceneSchema(YAML::Load("contact: {" + key + ": true}"));
     int told = 0;  // (the keys this fragment lacks are problems too)

@@ -19,10 +19,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kLumen = 0.004;        // [m] the tube's radius
-constexpr double kWire = 0.000178;      // [m] the wire's radius
-constexpr double kTubeLength = 0.2;     // [m] along x, horizontal
-constexpr double kInserted = 0.16;      // [m] of wire in the tube
+constexpr double kLumen = 0.004;     // [m] the tube's radius
+constexpr double kWire = 0.000178;   // [m] the wire's radius
+constexpr double kTubeLength = 0.2;  // [m] along x, horizontal
+constexpr double kInserted = 0.16;   // [m] of wire in the tube
 
 const char* kWireFile = R"(<?xml version="1.0"?>
 <robot name="wire">
@@ -55,8 +55,8 @@ class SupineGravity : public ::testing::Test {
     std::ofstream(dir_ / "scene.yaml")
         << "name: tube\ntime_step: 0.001\neffects: [gravity]\n"
         << (gravity.empty() ? "" : "gravity: " + gravity + "\n")
-        << "vessels:\n  centerline: tube.swc\n" << vessels_extra
-        << "devices:\n  - file: wire.urdf\n    access_point: [0.01, 0, 0]\n"
+        << "vessels:\n  centerline: tube.swc\n"
+        << vessels_extra << "devices:\n  - file: wire.urdf\n    access_point: [0.01, 0, 0]\n"
         << "    insertion_direction: [1, 0, 0]\n    inserted_length: " << kInserted << "\n";
   }
   void TearDown() override { fs::remove_all(dir_); }

@@ -4,6 +4,8 @@
 // `access_point: inlet`; a length that cannot fit is refused at load with
 // the length that fits. Independent answers: the vessel field says every
 // node lies inside the lumen, and the first steps solve.
+#include "endovascular_sim/sim/initial_placement.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,7 +14,6 @@
 #include <sstream>
 
 #include "endovascular_sim/core/load_error.h"
-#include "endovascular_sim/sim/initial_placement.h"
 
 namespace evsim {
 namespace {
@@ -46,8 +47,8 @@ void expectInsideAndSolved(const SceneModel& m, int steps) {
 TEST(InitialPlacement, AWireInsertedAroundTheArchLiesAlongIt) {
   // The catheter and its wire 25 cm from the descending aorta: 13 cm up to
   // the arch, then over it.
-  const SceneModel m = sceneWith("arch_to_left_subclavian", "inserted_length: [0-9.]+",
-                                 "inserted_length: 0.25");
+  const SceneModel m =
+      sceneWith("arch_to_left_subclavian", "inserted_length: [0-9.]+", "inserted_length: 0.25");
   SimData data = makeData(m);
   const std::string tip_vessel = m.atlas->vessels()[data.tips[0].vessel].name;
   EXPECT_TRUE(tip_vessel == "aortic_arch" || tip_vessel == "ascending_aorta") << tip_vessel;
@@ -57,10 +58,10 @@ TEST(InitialPlacement, AWireInsertedAroundTheArchLiesAlongIt) {
 TEST(InitialPlacement, ACoaxialPairAtTheInletRuns) {
   // The inlet of carotid.swc is its root, the ascending aorta's end: the
   // pair goes up it, over the arch and down the descending aorta.
-  const SceneModel m = sceneWith(
-      "arch_navigation",
-      "access_point: \\[0.025, -0.020, -0.130\\].*\\n.*insertion_direction.*\\n.*up: .*",
-      "access_point: inlet");
+  const SceneModel m =
+      sceneWith("arch_navigation",
+                "access_point: \\[0.025, -0.020, -0.130\\].*\\n.*insertion_direction.*\\n.*up: .*",
+                "access_point: inlet");
   expectInsideAndSolved(m, 20);
 }
 
