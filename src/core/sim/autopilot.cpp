@@ -141,11 +141,19 @@ void Autopilot::drive(const SceneModel& model, SimData* data, double insertion_s
   outer.mode = DriveCommand::Mode::kPosition;
   // Advancing, it never draws back to the lag: a catheter already deeper
   // (engaged in a branch) would pull the wire's tip out of it.
+  // Retracting, it holds where it is while its tip is in a vessel of the
+  // plan: the wire draws back into it and tries the fork ahead again (drawn
+  // back to the lag, a catheter that leads past a fork would leave it).
   const double lead_inserted = data->devices[lead_].inserted_length;
+  const double outer_inserted = data->devices[follow_].inserted_length;
   double behind = lead_inserted - options_.follow_lag;
-  if (insertion_speed >= 0.0)
-    behind = std::max(
-        behind, std::min(data->devices[follow_].inserted_length, lead_inserted - kOuterMinLead));
+  if (insertion_speed >= 0.0) {
+    behind = std::max(behind, std::min(outer_inserted, lead_inserted - kOuterMinLead));
+  } else {
+    const std::vector<int> plan = model.atlas->path(entry_vessel_, target_);
+    if (std::find(plan.begin(), plan.end(), data->tips[follow_].vessel) != plan.end())
+      behind = std::max(behind, outer_inserted);
+  }
   outer.insertion = std::clamp(behind, 0.0, o.length);
   const int outer_vessel = data->tips[follow_].vessel;
   if (outer_vessel >= 0 &&
