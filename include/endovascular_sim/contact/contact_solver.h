@@ -47,7 +47,9 @@
 #include <string>
 #include <vector>
 
+#include "endovascular_sim/contact/contact_options.h"
 #include "endovascular_sim/contact/contact_point.h"
+#include "endovascular_sim/contact/contact_workspace.h"
 #include "endovascular_sim/contact/friction.h"
 #include "endovascular_sim/contact/lcp.h"
 #include "endovascular_sim/core/effect_set.h"
@@ -58,51 +60,6 @@
 #include "endovascular_sim/mechanics/implicit_euler.h"
 
 namespace evsim {
-
-struct ContactOptions {
-  LcpOptions lcp;                      // solver, tolerance, iteration limit
-  int max_activation_loops{10};        // N: then the step is subdivided
-  int max_subdivisions{4};             // recursive halvings of a step (dt / 16)
-  double contact_spacing{1e-3};        // sample points along elements [m]
-  double penetration_tolerance{1e-6};  // a point beyond the wall by more is violated [m]
-  double keep_gap{0.0};  // a wall contact of the last step that ended without force at most this
-                         // far from its plane (and at least penetration_tolerance) starts the
-                         // next step [m]: about the wall's travel in a step where vessels move
-  RootOptions root;      // first-root search
-  bool element_pairs{false};  // device pairs between elements' axes, not sample points
-  bool wall_curvature{true};  // the wall's curvature in A (contact/wall_curvature.h)
-  int curvature_loops{1000};  // loops that update C (then A + C and its band are kept)
-  // Test seams, not scene keys (retiredSceneKeys, scene/scene_schema.h):
-  // either setting of these four gives the same answer, their tests compare
-  // the two; the faster one is the default and the only one scenes get.
-  bool interior_balls{true};           // spare evaluations in certified balls (sample_fields.h)
-  bool detect_on_first_iterate{true};  // with kept contacts, detect on x_t -> x_1, not -> x_f
-  bool predict_first_iterate{false};   // detect and linearise the first loop at x_f + A^-1 H^T f,
-                                       // f the last step's contact forces, not at x_f
-  bool columns_on_demand{true};        // frictionless status method: W's columns formed as it reads
-                                       // them, not the whole W (contact/delassus_columns.h)
-  bool slid_pair_warm_start{true};     // element pairs: a new pair of the first detection next
-                                       // to a pair kept from the last step with a force takes that
-                                       // force over as the LCP's warm start (pair_detection.h)
-  double pair_tolerance{0.0};          // effect 'device_contact': two device surfaces that overlap
-                                       // by more are violated (at least penetration_tolerance) [m]
-  double new_pair_overlap{0.0};        // effect 'device_contact': a pair not held in the last
-                                       // step is a contact of the first detection once it overlaps
-                                       // by more (0: once it touches; later: pair_tolerance) [m]
-  double row_turn{2e-2};  // a contact's normal row of H is formed again at the loop's x once a
-                          // node tangent of its element turned by more since it was formed (0:
-                          // every loop; its W entries are kept while it is not) [rad]
-  double lumen_tolerance{5e-6};  // effect 'coaxial': a point of an inner device beyond its
-                                 // outer device's lumen by more is violated [m]
-  double lumen_settle{0.1};      // effect 'coaxial': the loop goes on while a point held by the
-                                 // lumen's curvature slid more than this fraction of the clearance
-                                 // since the loop's anchor: what that leaves is a force below this
-                                 // fraction of the contact's (docs/model.md, "Coaxial devices") [-]
-  FrictionOptions friction_solver;  // its tolerance and sweep limit
-};
-
-/// Why the options are out of range ("" when they are valid).
-std::string validateContactOptions(const ContactOptions& options);
 
 /// A contact with the wall (other_device < 0): n . (p - point) >= 0; or
 /// between a device point and a point of another device (or of the same
@@ -223,6 +180,8 @@ struct ContactProblem {
   const std::vector<DeviceState>* start{nullptr};  // x_t (drive already advanced)
   EffectSet effects;  // the scene's: 'friction' and 'device_contact' change the problem
   std::vector<DeviceWorkspace>* workspaces{nullptr};
+  ContactWorkspace* kept{nullptr};  // what the solver keeps for this simulation (nullptr: a call
+                                    // that keeps nothing, as the first of a simulation would find)
   const std::vector<std::vector<SamplePoint>>* samples{nullptr};
   const ImplicitSurface* surface{nullptr};
   MotionSnapshot motion;       // of the surface at the end of the step

@@ -32,6 +32,7 @@
 //    (exact up to round-off; the final basis is re-solved to polish z).
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include "endovascular_sim/core/types.h"
@@ -49,11 +50,8 @@ struct LcpOptions {
   double tolerance{1e-12};          // on w >= -tolerance and PGS convergence [m]
   int max_iterations{0};            // pivots or sweeps; 0: 20 c + 100 (pivoting), 1000 (PGS)
   double regularization{1e-12};     // status method: eps / max(diag W) [-]
-  bool start_from_violated{false};  // status method: the paper's initial active set
-  /// Status method: start from the rows with a positive force in the z
-  /// passed in (size c; the previous activation loop's answer), largest
-  /// first. The answer is the same (w is unique); only the pivots change.
-  bool warm_start{false};
+  bool start_from_violated{false};  // status method, without a warm start: the paper's initial
+                                    // active set
 };
 
 /// kInfeasible: Lemke's method ended on a ray, which for the positive
@@ -84,11 +82,37 @@ struct LcpStats {
   double residual{0.0};       // natural-map residual |z - max(0, z - w)| / |q|
 };
 
-/// Solves the LCP (W: c x c, q: c). z is read as the warm start when
-/// options.warm_start is set and it has size c, then resized; on kFailed it
-/// is zero.
+/// What the status method keeps from one solve to the next: its factor
+/// buffer, and the factor of the last solve's active set, from which the
+/// next solve starts where W's entries among that set are unchanged (the
+/// activation loop's next loop: the same answer in fewer pivots). The
+/// contact solver keeps one per simulation (contact/contact_workspace.h);
+/// without one a solve starts afresh. A copy holds what the original holds.
+class LcpWorkspace {
+ public:
+  struct FactorStore;  // src/core/contact/active_cholesky.h
+
+  LcpWorkspace();
+  ~LcpWorkspace();
+  LcpWorkspace(const LcpWorkspace&);
+  LcpWorkspace& operator=(const LcpWorkspace&);
+  LcpWorkspace(LcpWorkspace&&) noexcept;
+  LcpWorkspace& operator=(LcpWorkspace&&) noexcept;
+
+  /// Created at the first use.
+  FactorStore& store();
+
+ private:
+  std::unique_ptr<FactorStore> store_;
+};
+
+/// Solves the LCP (W: c x c, q: c). A z of size c is the warm start: the
+/// status method starts from its rows with a positive force, largest first
+/// (the previous activation loop's answer; the answer is the same, w being
+/// unique, only the pivots change); pass an empty z to start cold. z is
+/// then resized; on kFailed it is zero.
 LcpStatus solveLcp(const MatXView& W, const VecX& q, const LcpOptions& options, VecX* z,
-                   LcpStats* stats = nullptr);
+                   LcpStats* stats = nullptr, LcpWorkspace* workspace = nullptr);
 
 /// W given column by column, each formed when the solver first reads it.
 /// The status method reads only the columns of the rows it activates (and
@@ -108,7 +132,7 @@ class ColumnOperator {
 /// The status method on W given by columns (options.solver is not read:
 /// PGS and Lemke read every entry). Same answers as on the dense W.
 LcpStatus solveLcp(ColumnOperator& W, const VecX& q, const LcpOptions& options, VecX* z,
-                   LcpStats* stats = nullptr);
+                   LcpStats* stats = nullptr, LcpWorkspace* workspace = nullptr);
 
 /// |z - max(0, z - w)| / |q| with w = W z + q (Siconos' LCP error measure);
 /// 0 for q = 0 and z = 0.

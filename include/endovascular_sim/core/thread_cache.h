@@ -1,5 +1,12 @@
-// Per-thread caches of the core's hot paths (scratch that a step reuses
-// instead of allocating), each on the heap behind one pointer.
+// Per-thread caches of the core's hot paths, each on the heap behind one
+// pointer: storage a call reuses instead of allocating (the Delassus
+// update's, the status method's factor buffer), and caches of a model's
+// geometry keyed by what they were computed from (the moved vessel
+// segments by field and motion, the field's Hessian bounds by field and
+// cell, the interior balls' deformation rate by motion), so that what they
+// hold is right for any simulation a thread steps. What a simulation keeps
+// for its own next steps (device-pair candidates, the loops' rows, the
+// sub-steps' states) lives in its SimData instead (contact/contact_workspace.h).
 #pragma once
 
 #include <memory>

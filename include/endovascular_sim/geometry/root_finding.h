@@ -7,7 +7,7 @@
 // so the step d to the first zero of that lower bound never passes a root —
 // a thin wall cannot be jumped — while near a simple root it behaves like
 // Newton's step (quadratic convergence). The root is finished by bisection.
-// Only penetrations deeper than a tolerance eps count (Signorini's gap >=
+// Only penetrations deeper than eps (crossing_depth) count (Signorini's gap >=
 // -tolerance): the certified steps run on g + eps |grad f|, which keeps them
 // long (micrometres) for a point sliding along the wall, where steps on g
 // alone would shrink like sqrt(g). The reported root is still the exact zero
@@ -24,9 +24,9 @@
 namespace evsim {
 
 struct RootOptions {
-  double tolerance{1e-11};             // on the root's position [m]
-  double penetration_tolerance{1e-9};  // crossings shallower than this are not hits [m]
-  int max_iterations{1000};            // certified steps before giving up
+  double tolerance{1e-11};      // on the root's position [m]
+  double crossing_depth{1e-9};  // a crossing shallower than this is not a hit [m]
+  int max_iterations{1000};     // certified steps before giving up
 };
 
 struct SurfacePoint {

@@ -6,6 +6,7 @@
 
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 #include "endovascular_sim/core/types.h"
 
@@ -43,6 +44,8 @@ class YamlReader {
   /// first silently). `field` names the map ("" the file's top level).
   void keys(const YAML::Node& n, const std::string& field,
             std::initializer_list<const char*> allowed) const;
+  void keys(const YAML::Node& n, const std::string& field,
+            const std::vector<std::string>& allowed) const;
   Vec3 vector3(const YAML::Node& n, const std::string& field) const;
 
   const std::string& file() const { return file_; }

@@ -12,6 +12,7 @@
 //                      only advance the clock until something wakes it
 #pragma once
 
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -91,6 +92,14 @@ struct StepStats {
 
 enum class StepStatus { kOk, kSolverFailure, kContactsUnsolved };
 
+/// Device states a (sub-)step at one depth of halving works in: the new
+/// states and where the contact solver ended. Kept from step to step, so
+/// that a step copies into storage of the right size instead of
+/// allocating it.
+struct SubStepStates {
+  std::vector<DeviceState> next, moved;
+};
+
 struct SimData {
   double time{0.0};  // [s]
   long step{0};
@@ -115,6 +124,10 @@ struct SimData {
   std::string last_error;               // why the last failed step was rejected
   std::vector<std::string>
       notices;  // scripted commands refused, drives at a limit (runners print and clear them)
+  // Storage and caches the steps reuse; what they hold changes a step's
+  // answer by round-off at most (a copy of the data steps as the original).
+  ContactWorkspace contact_workspace;  // pair candidates, the loops' rows
+  std::deque<SubStepStates> substeps;  // per depth of halving
 };
 
 /// Throws LoadError when the spec is beyond the limits its scene states

@@ -1,6 +1,6 @@
 // The status method's factor of its active set (lcp.cpp): a Cholesky factor
-// updated a row at a time, kept per thread from one solve to the next.
-// Internal to the contact solver.
+// updated a row at a time, kept in the caller's LcpWorkspace from one solve
+// to the next. Internal to the contact solver.
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -9,29 +9,40 @@
 #include <cmath>
 #include <vector>
 
-#include "endovascular_sim/core/thread_cache.h"
+#include "endovascular_sim/contact/lcp.h"
 #include "endovascular_sim/core/types.h"
 
 namespace evsim {
+
+/// The factor buffer of an LcpWorkspace (contact/lcp.h), at least c x c
+/// (grown by a quarter at least when smaller, the factor kept in it copied
+/// along: the next loop has more rows; entries are written before they are
+/// read), and what the last solve left in it (keep).
+struct LcpWorkspace::FactorStore {
+  MatX L;
+  bool valid{false};     // L's top-left block factorises entries + eps I
+  std::vector<int> set;  // the rows and columns of W it factorises, in order
+  double eps{0.0};
+  MatX entries;  // W(set[i], set[j]), i >= j, where they were factorised
+};
 
 /// Cholesky factor L (lower) of W_aa + eps I for an ordered active set,
 /// updated by appending or removing one index, and the forward solution
 /// y = L^-1 b_a of a right-hand side b (given at construction) kept with
 /// it: O(k) per change, so each pivot's z_a = L^-T y is one triangular
 /// solve. All storage is sized once (c x c), so pivots allocate nothing;
-/// L lives in a per-thread buffer that only grows, so that the solves of
+/// L lives in the workspace's buffer that only grows, so that the solves of
 /// an activation loop (megabytes at c = 400) do not each allocate and
 /// fault in their own, and the next solve may start from the factor the
-/// last one kept there (keep, resume). One factor at a time per thread:
-/// the status method never runs inside another.
+/// last one kept there (keep, resume). One factor at a time per workspace.
 template <typename Columns>
 class ActiveCholesky {
  public:
-  ActiveCholesky(const Columns& W, const VecX& b, double eps)
+  ActiveCholesky(const Columns& W, const VecX& b, double eps, LcpWorkspace* workspace)
       : W_(W),
         b_(b),
         eps_(eps),
-        store_(factorStore(W.size())),
+        store_(factorStore(workspace, W.size())),
         L_(store_.L.topLeftCorner(W.size(), W.size())),
         row_(W.size()),
         y_(W.size()) {
@@ -152,19 +163,9 @@ class ActiveCholesky {
   }
 
  private:
-  /// This thread's factor buffer, at least c x c (grown by a quarter at
-  /// least when smaller, the factor kept in it copied along: the next loop
-  /// has more rows; entries are written before they are read), and what
-  /// the last solve left in it (keep).
-  struct FactorStore {
-    MatX L;
-    bool valid{false};     // L's top-left block factorises entries + eps I
-    std::vector<int> set;  // the rows and columns of W it factorises, in order
-    double eps{0.0};
-    MatX entries;  // W(set[i], set[j]), i >= j, where they were factorised
-  };
-  static FactorStore& factorStore(Eigen::Index c) {
-    FactorStore& store = threadCache<FactorStore>();
+  using FactorStore = LcpWorkspace::FactorStore;
+  static FactorStore& factorStore(LcpWorkspace* workspace, Eigen::Index c) {
+    FactorStore& store = workspace->store();
     if (store.L.rows() < c) {
       const Eigen::Index grown = std::max(c, store.L.rows() + store.L.rows() / 4);
       store.L.conservativeResize(grown, grown);

@@ -10,47 +10,9 @@
 #include <sstream>
 
 #include "activation_loop.h"
+#include "contact_workspace_kept.h"
 
 namespace evsim {
-
-std::string validateContactOptions(const ContactOptions& o) {
-  std::ostringstream why;
-  if (!(o.lcp.tolerance > 0.0 && o.lcp.tolerance <= 1e-3))
-    why << "lcp tolerance must lie in (0, 1e-3] m";
-  else if (o.lcp.max_iterations < 0 || o.lcp.max_iterations > 1000000)
-    why << "lcp max_iterations must lie in [0, 1e6] (0: automatic)";
-  else if (!(o.lcp.regularization >= 0.0 && o.lcp.regularization <= 1e-3))
-    why << "lcp regularization must lie in [0, 1e-3]";
-  else if (o.max_activation_loops < 1 || o.max_activation_loops > 1000)
-    why << "max_activation_loops must lie in [1, 1000]";
-  else if (o.curvature_loops < 1 || o.curvature_loops > 1000)
-    why << "curvature_loops must lie in [1, 1000]";
-  else if (o.max_subdivisions < 0 || o.max_subdivisions > 12)
-    why << "max_subdivisions must lie in [0, 12]";
-  else if (!(o.contact_spacing >= 1e-5 && o.contact_spacing <= 0.05))
-    why << "contact_spacing must lie in [1e-5, 0.05] m";
-  else if (!(o.penetration_tolerance >= 1e-9 && o.penetration_tolerance <= 1e-3))
-    why << "penetration_tolerance must lie in [1e-9, 1e-3] m";
-  else if (!(o.keep_gap >= 0.0 && o.keep_gap <= 1e-3))
-    why << "keep_gap must lie in [0, 1e-3] m";
-  else if (!(o.pair_tolerance >= 0.0 && o.pair_tolerance <= 1e-4))
-    why << "pair_tolerance must lie in [0, 1e-4] m";
-  else if (!(o.new_pair_overlap >= 0.0 && o.new_pair_overlap <= 1e-4))
-    why << "new_pair_overlap must lie in [0, 1e-4] m";
-  else if (!(o.row_turn >= 0.0 && o.row_turn <= 0.1))
-    why << "row_turn must lie in [0, 0.1] rad";
-  else if (!(o.lumen_tolerance >= 1e-9 && o.lumen_tolerance <= 1e-3))
-    why << "lumen_tolerance must lie in [1e-9, 1e-3] m";
-  else if (!(o.lumen_settle >= 1e-4 && o.lumen_settle <= 1.0))
-    why << "lumen_settle must lie in [1e-4, 1]";
-  else if (!(o.root.tolerance > 0.0 && o.root.tolerance <= 1e-6))
-    why << "root tolerance must lie in (0, 1e-6] m";
-  else if (!(o.friction_solver.tolerance > 0.0 && o.friction_solver.tolerance <= 1e-2))
-    why << "friction tolerance must lie in (0, 1e-2]";
-  else if (o.friction_solver.max_sweeps < 1 || o.friction_solver.max_sweeps > 1000000)
-    why << "friction max_sweeps must lie in [1, 1e6]";
-  return why.str();
-}
 
 namespace activation {
 
@@ -149,11 +111,10 @@ LcpStatus solveForces(const ContactProblem& pb, const ContactOptions& o,
   // The new contacts start inactive.
   lambda->resize(c);
   for (int i = 0; i < c; ++i) (*lambda)(i) = std::max(0.0, contacts[i].force);
-  LcpOptions lo = o.lcp;
-  lo.warm_start = true;
   LcpStats ls;
-  const LcpStatus status = sys.columns ? solveLcp(*sys.columns, sys.q, lo, lambda, &ls)
-                                       : solveLcp(sys.W(), sys.q, lo, lambda, &ls);
+  LcpWorkspace* kept = pb.kept ? &pb.kept->kept().lcp : nullptr;
+  const LcpStatus status = sys.columns ? solveLcp(*sys.columns, sys.q, o.lcp, lambda, &ls, kept)
+                                       : solveLcp(sys.W(), sys.q, o.lcp, lambda, &ls, kept);
   st->lcp_iterations += ls.iterations;
   st->lcp_residual = ls.residual;
   return status;

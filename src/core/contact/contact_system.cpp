@@ -8,8 +8,8 @@
 #include <cmath>
 
 #include "activation_loop.h"
+#include "contact_workspace_kept.h"
 #include "endovascular_sim/contact/wall_curvature.h"
-#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/mechanics/elasticity.h"
 
 namespace evsim::activation {
@@ -393,8 +393,9 @@ void formContactProblem(const ContactProblem& pb, const ContactOptions& o, LoopS
   sys->mu.resize(pb.effects.friction ? sys->c : 0);
   if (pb.effects.friction) sys->tangents.resize(sys->c);
   // The rows' parts per device; their storage is kept from loop to loop
-  // (per thread, as the loops of one step run on one).
-  std::vector<std::vector<RowPart>>& parts = threadCache<std::vector<std::vector<RowPart>>>();
+  // in the simulation's contact workspace.
+  std::vector<std::vector<RowPart>> local;
+  std::vector<std::vector<RowPart>>& parts = pb.kept ? pb.kept->kept().row_parts : local;
   parts.resize(std::max(parts.size(), nd));
   for (size_t d = 0; d < nd; ++d) {
     parts[d].clear();

@@ -148,9 +148,7 @@ VecX frictionlessForces(const MatXView& W, const VecX& q, const VecX& r) {
     zn(i) = std::max(0.0, r(3 * i));
     for (int j = 0; j < c; ++j) Wn(i, j) = W(3 * i, 3 * j);
   }
-  LcpOptions lo;
-  lo.warm_start = true;
-  solveLcp(Wn, qn, lo, &zn);  // whatever its status: only a start
+  solveLcp(Wn, qn, LcpOptions{}, &zn);  // whatever its status: only a start
   VecX start = VecX::Zero(3 * c);
   for (int i = 0; i < c; ++i) start(3 * i) = zn(i);
   return start;

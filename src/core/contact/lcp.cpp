@@ -131,17 +131,17 @@ double refineOnFactor(const Columns& W, const VecX& q, const ActiveCholesky<Colu
 /// `may_resume` and that pays (ActiveCholesky::reset).
 template <typename Columns>
 LcpStatus statusMethodOnce(const Columns& W, const VecX& q, const LcpOptions& o, VecX* z,
-                           LcpStats* st, bool may_resume) {
+                           LcpStats* st, bool may_resume, LcpWorkspace* workspace) {
   const int c = static_cast<int>(q.size());
   const double eps = o.regularization * std::max(W.maxDiagonal(), 0.0);
   const int limit = o.max_iterations > 0 ? o.max_iterations : 20 * c + 100;
   const VecX minus_q = -q;
-  ActiveCholesky<Columns> chol(W, minus_q, eps);
+  ActiveCholesky<Columns> chol(W, minus_q, eps, workspace);
   std::vector<char> active(c, 0);
   // Start from the empty set, or (the paper's start) from every contact
   // violated by the free motion, most violated first.
   std::vector<int> order;
-  if (o.warm_start && z->size() == c) {
+  if (z->size() == c) {
     for (int i = 0; i < c; ++i)
       if ((*z)(i) > 0.0) order.push_back(i);
     std::sort(order.begin(), order.end(), [&](int a, int b) { return (*z)(a) > (*z)(b); });
@@ -226,16 +226,18 @@ LcpStatus statusMethodOnce(const Columns& W, const VecX& q, const LcpOptions& o,
 /// safeguard: over 300 steps of the packed coil from t = 14.4 s, 1 of 301
 /// resumed solves ended above it, at 2.5e-10, and its fresh solve there too).
 template <typename Columns>
-LcpStatus statusMethod(const Columns& W, const VecX& q, const LcpOptions& o, VecX* z,
-                       LcpStats* st) {
+LcpStatus statusMethod(const Columns& W, const VecX& q, const LcpOptions& o, VecX* z, LcpStats* st,
+                       LcpWorkspace* given) {
+  LcpWorkspace local;  // without one: a fresh factor, nothing kept
+  LcpWorkspace* workspace = given ? given : &local;
   constexpr double kResumedResidual = 1e-12;
   const VecX start = *z;
-  const LcpStatus status = statusMethodOnce(W, q, o, z, st, true);
+  const LcpStatus status = statusMethodOnce(W, q, o, z, st, true, workspace);
   if (!st->resumed || (status == LcpStatus::kSolved && st->residual <= kResumedResidual))
     return status;
   *z = start;
   LcpStats fresh;
-  const LcpStatus again = statusMethodOnce(W, q, o, z, &fresh, false);
+  const LcpStatus again = statusMethodOnce(W, q, o, z, &fresh, false, workspace);
   fresh.iterations += st->iterations;  // (both solves' pivots)
   *st = fresh;
   return again;
@@ -406,13 +408,13 @@ LcpStatus solveGuarded(const VecX& q, VecX* z, LcpStats* st, Solve&& solve) {
 }  // namespace
 
 LcpStatus solveLcp(const MatXView& W, const VecX& q, const LcpOptions& options, VecX* z,
-                   LcpStats* stats) {
+                   LcpStats* stats, LcpWorkspace* workspace) {
   LcpStats local;
   LcpStats* st = stats ? stats : &local;
   const LcpStatus status = solveGuarded(q, z, st, [&] {
     switch (options.solver) {
       case LcpSolver::kStatusMethod:
-        return statusMethod(DenseColumns{W}, q, options, z, st);
+        return statusMethod(DenseColumns{W}, q, options, z, st, workspace);
       case LcpSolver::kPgs:
         return pgs(W, q, options, z, st);
       default:
@@ -426,11 +428,28 @@ LcpStatus solveLcp(const MatXView& W, const VecX& q, const LcpOptions& options, 
 }
 
 LcpStatus solveLcp(ColumnOperator& W, const VecX& q, const LcpOptions& options, VecX* z,
-                   LcpStats* stats) {
+                   LcpStats* stats, LcpWorkspace* workspace) {
   LcpStats local;
   LcpStats* st = stats ? stats : &local;
-  return solveGuarded(q, z, st,
-                      [&] { return statusMethod(ColumnsOnDemand{W}, q, options, z, st); });
+  return solveGuarded(
+      q, z, st, [&] { return statusMethod(ColumnsOnDemand{W}, q, options, z, st, workspace); });
+}
+
+LcpWorkspace::LcpWorkspace() = default;
+LcpWorkspace::~LcpWorkspace() = default;
+LcpWorkspace::LcpWorkspace(const LcpWorkspace& other)
+    : store_(other.store_ ? std::make_unique<FactorStore>(*other.store_) : nullptr) {}
+LcpWorkspace& LcpWorkspace::operator=(const LcpWorkspace& other) {
+  if (this != &other)
+    store_ = other.store_ ? std::make_unique<FactorStore>(*other.store_) : nullptr;
+  return *this;
+}
+LcpWorkspace::LcpWorkspace(LcpWorkspace&&) noexcept = default;
+LcpWorkspace& LcpWorkspace::operator=(LcpWorkspace&&) noexcept = default;
+
+LcpWorkspace::FactorStore& LcpWorkspace::store() {
+  if (!store_) store_ = std::make_unique<FactorStore>();
+  return *store_;
 }
 
 }  // namespace evsim

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <map>
 
+#include "contact_workspace_kept.h"
 #include "device_pairs.h"
-#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/contact/coaxial.h"
 
 namespace evsim::activation {
@@ -205,21 +205,22 @@ std::vector<ElementRef> pairElements(const ContactProblem& pb, const std::vector
 }
 
 /// The sample points' pair candidates, kept from pass to pass and from
-/// step to step, per thread as the vessel field's caches are: a coil's
-/// points move some micrometres a step, and the candidates stay valid for
-/// several steps. Whatever built them, they are used only where every
-/// point of the pass was there with its radius and moved less than the skin
-/// since (findPointPairs): the pairs found are those of a full search.
-pairs::PointCandidates& keptPointCandidates() {
-  return threadCache<pairs::PointCandidates>();
+/// step to step in the simulation's contact workspace (nullptr without
+/// one): a coil's points move some micrometres a step, and the candidates
+/// stay valid for several steps. Whatever built them, they are used only
+/// where every point of the pass was there with its radius and moved less
+/// than the skin since (findPointPairs): the pairs found are those of a
+/// full search.
+pairs::PointCandidates* keptPointCandidates(const ContactProblem& pb) {
+  return pb.kept ? &pb.kept->kept().point_candidates : nullptr;
 }
 
 /// The element pairs' candidates, kept the same way: used only where every
 /// element of the pass was there, free or held as now, and its box stays
 /// within its box there grown by the skin (findPairs): the pairs found are
 /// those of a full search.
-pairs::PairCandidates& keptElementCandidates() {
-  return threadCache<pairs::PairCandidates>();
+pairs::PairCandidates* keptElementCandidates(const ContactProblem& pb) {
+  return pb.kept ? &pb.kept->kept().element_candidates : nullptr;
 }
 
 }  // namespace
@@ -244,7 +245,7 @@ std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
   if (!element_pairs) {
     const std::vector<PointRef> pts = freePoints(pb, x, positions);
     for (const pairs::PointPair& pr : pairs::findPointPairs(
-             *pb.devices, pts, margin, keep_candidates ? &keptPointCandidates() : nullptr)) {
+             *pb.devices, pts, margin, keep_candidates ? keptPointCandidates(pb) : nullptr)) {
       const PointRef &a = pts[pr.a], &b = pts[pr.b];
       FoundPair f = found(a.device, a.sample, a.element, b.device, b.sample, b.element);
       f.key = {a.device, a.sample, b.device, b.sample};
@@ -259,7 +260,7 @@ std::vector<FoundPair> devicePairs(const ContactProblem& pb, bool element_pairs,
   }
   const std::vector<ElementRef> els = pairElements(pb, x, from);
   for (const Pair& pr : pairs::findPairs(*pb.devices, x, els, margin, from, passed_through,
-                                         keep_candidates ? &keptElementCandidates() : nullptr)) {
+                                         keep_candidates ? keptElementCandidates(pb) : nullptr)) {
     const ElementRef &a = els[pr.a], &b = els[pr.b];
     FoundPair f = found(a.device, a.sample, a.element, b.device, b.sample, b.element);
     f.key = {a.device, a.element, b.device, b.element};

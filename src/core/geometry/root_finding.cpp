@@ -57,8 +57,8 @@ double bracketedZero(const ImplicitSurface& field, const Vec3& p0, const Vec3& d
 }
 
 /// First change of sign of g on p0 + s (p1 - p0), s in (0, 1], from the sign
-/// sigma of g(p0), counted only where sigma g < -eps (eps: the penetration
-/// tolerance in field units). Certified steps on sigma g + eps >= 0, then
+/// sigma of g(p0), counted only where sigma g < -eps (eps: the crossing
+/// depth in field units). Certified steps on sigma g + eps >= 0, then
 /// bracketing of the exact zero between the last point of the start's sign
 /// and the first of the other sign. With the field at p1 known (`end`), the
 /// path is also certified from that end: backwards from p1 by the same
@@ -72,7 +72,7 @@ SurfacePoint firstSignChange(const ImplicitSurface& field, const Vec3& p0, const
   const double length = d.norm();
   if (length == 0.0) return none;
   const double sigma = at.value >= 0.0 ? 1.0 : -1.0;
-  const double eps = options.penetration_tolerance * at.gradient.norm();
+  const double eps = options.crossing_depth * at.gradient.norm();
   const double H = field.hessianBound(p0, p1, r) * length * length;
   const double tol_s = options.tolerance / length;
   // The part (s_end, 1] certified from the end, when it is on the start's side.
@@ -163,9 +163,9 @@ SurfacePoint newtonToSurface(const ImplicitSurface& field, const Vec3& x, const 
   double t = 0.0, f = sigma * at.value, rate = rate0;
   for (int it = 1; it <= kMaxSteps; ++it) {
     // Aimed a little past the zero (a quarter of the tolerance, or the
-    // penetration tolerance if smaller), so that the answer lies on the other
+    // crossing depth if smaller), so that the answer lies on the other
     // side, as a bracket's end would.
-    const double next = t + f / rate + std::min(0.25 * tol, options.penetration_tolerance);
+    const double next = t + f / rate + std::min(0.25 * tol, options.crossing_depth);
     if (!(next >= 0.0 && next <= t_max)) return none;
     const FieldSample g = field.evaluate(x + next * u, r, m);
     t = next;

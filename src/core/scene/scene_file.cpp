@@ -157,6 +157,9 @@ DevicePlacementSpec readDevice(const YamlReader& r, const YAML::Node& n, int ind
   return d;
 }
 
+/// The `contact:` section, key by key from the contact options' table
+/// (contact/contact_options.h); the schema check has already refused
+/// values of the wrong type or out of range.
 ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
   ContactOptions o;
   if (n.IsMap())
@@ -164,79 +167,38 @@ ContactOptions readContact(const YamlReader& r, const YAML::Node& n) {
       if (entry.first.IsScalar())
         if (const RetiredKey* retired = findRetiredKey("contact." + entry.first.Scalar()))
           r.fail(entry.first, retired->path, retired->why);
-  r.keys(n, "contact",
-         {"solver",
-          "tolerance",
-          "max_iterations",
-          "regularization",
-          "max_activation_loops",
-          "max_subdivisions",
-          "contact_spacing",
-          "penetration_tolerance",
-          "keep_gap",
-          "pair_tolerance",
-          "new_pair_overlap",
-          "row_turn",
-          "lumen_tolerance",
-          "root_tolerance",
-          "wall_curvature",
-          "curvature_loops",
-          "predict_first_iterate",
-          "lumen_settle",
-          "friction_solver",
-          "friction_tolerance",
-          "friction_max_sweeps",
-          "element_pairs"});
-  if (n["solver"]) {
-    try {
-      o.lcp.solver = lcpSolverFromName(r.text(n["solver"], "contact.solver"));
-    } catch (const std::invalid_argument& e) {
-      r.fail(n["solver"], "contact.solver", e.what());
+  std::vector<std::string> keys;
+  for (const ContactOptionField& f : contactOptionFields()) keys.push_back(f.key);
+  r.keys(n, "contact", keys);
+  for (const ContactOptionField& f : contactOptionFields()) {
+    const YAML::Node v = n[f.key];
+    if (!v) continue;
+    const std::string path = "contact." + f.key;
+    switch (f.type) {
+      case OptionType::kNumber:
+        f.set(&o, r.number(v, path));
+        break;
+      case OptionType::kInteger: {
+        const double x = r.number(v, path);
+        if (x != std::floor(x) || std::abs(x) > 1e9) r.fail(v, path, "must be a whole number");
+        f.set(&o, x);
+        break;
+      }
+      case OptionType::kBool: {
+        const std::string t = r.text(v, path);
+        if (t != "true" && t != "false") r.fail(v, path, "must be true or false");
+        f.set(&o, t == "true" ? 1.0 : 0.0);
+        break;
+      }
+      case OptionType::kChoice: {
+        const std::string t = r.text(v, path);
+        const auto c = std::find(f.choices.begin(), f.choices.end(), t);
+        if (c == f.choices.end()) r.fail(v, path, "must be " + contactOptionRange(f));
+        f.set(&o, static_cast<double>(c - f.choices.begin()));
+        break;
+      }
     }
   }
-  auto whole = [&](const char* key, int fallback) {
-    const double v = r.number(n, key, "contact.", fallback);
-    if (v != std::floor(v) || std::abs(v) > 1e9)
-      r.fail(n[key], std::string("contact.") + key, "must be a whole number");
-    return static_cast<int>(v);
-  };
-  o.lcp.tolerance = r.number(n, "tolerance", "contact.", o.lcp.tolerance);
-  o.lcp.max_iterations = whole("max_iterations", o.lcp.max_iterations);
-  o.lcp.regularization = r.number(n, "regularization", "contact.", o.lcp.regularization);
-  o.max_activation_loops = whole("max_activation_loops", o.max_activation_loops);
-  o.max_subdivisions = whole("max_subdivisions", o.max_subdivisions);
-  o.contact_spacing = r.number(n, "contact_spacing", "contact.", o.contact_spacing);
-  o.penetration_tolerance =
-      r.number(n, "penetration_tolerance", "contact.", o.penetration_tolerance);
-  o.keep_gap = r.number(n, "keep_gap", "contact.", o.keep_gap);
-  o.pair_tolerance = r.number(n, "pair_tolerance", "contact.", o.pair_tolerance);
-  o.new_pair_overlap = r.number(n, "new_pair_overlap", "contact.", o.new_pair_overlap);
-  o.row_turn = r.number(n, "row_turn", "contact.", o.row_turn);
-  o.root.tolerance = r.number(n, "root_tolerance", "contact.", o.root.tolerance);
-  auto flag = [&](const char* key, bool fallback) {
-    if (!n[key]) return fallback;
-    const std::string v = r.text(n[key], std::string("contact.") + key);
-    if (v != "true" && v != "false")
-      r.fail(n[key], std::string("contact.") + key, "must be true or false");
-    return v == "true";
-  };
-  o.wall_curvature = flag("wall_curvature", o.wall_curvature);
-  o.curvature_loops = whole("curvature_loops", o.curvature_loops);
-  o.predict_first_iterate = flag("predict_first_iterate", o.predict_first_iterate);
-  o.element_pairs = flag("element_pairs", o.element_pairs);
-  o.lumen_tolerance = r.number(n, "lumen_tolerance", "contact.", o.lumen_tolerance);
-  o.lumen_settle = r.number(n, "lumen_settle", "contact.", o.lumen_settle);
-  if (n["friction_solver"]) {
-    try {
-      o.friction_solver.solver =
-          frictionSolverFromName(r.text(n["friction_solver"], "contact.friction_solver"));
-    } catch (const std::invalid_argument& e) {
-      r.fail(n["friction_solver"], "contact.friction_solver", e.what());
-    }
-  }
-  o.friction_solver.tolerance =
-      r.number(n, "friction_tolerance", "contact.", o.friction_solver.tolerance);
-  o.friction_solver.max_sweeps = whole("friction_max_sweeps", o.friction_solver.max_sweeps);
   const std::string why = validateContactOptions(o);
   if (!why.empty()) r.fail(n, "contact", why);
   return o;

@@ -4,6 +4,9 @@
 // refused before any section is read.
 #include "endovascular_sim/scene/scene_schema.h"
 
+#include <algorithm>
+
+#include "endovascular_sim/contact/contact_options.h"
 #include "endovascular_sim/scene/scene_file.h"
 
 namespace evsim {
@@ -187,99 +190,7 @@ std::vector<SchemaEntry> makeSchema() {
           .in("[]", 0, 1),
 
       Key("contact", T::kMap, "the contact solver's options"),
-      Key("contact.solver", T::kChoice, "the LCP solver")
-          .choices({"status", "pgs", "lemke"})
-          .def("status"),
-      Key("contact.tolerance", T::kNumber, "LCP: w >= -tolerance")
-          .unit("m")
-          .def("1e-12")
-          .in("(]", 0, 1e-3),
-      Key("contact.max_iterations", T::kInteger, "pivots or sweeps (0: automatic)")
-          .def("0")
-          .in("[]", 0, 1e6),
-      Key("contact.regularization", T::kNumber, "status method: eps / max diag W")
-          .def("1e-12")
-          .in("[]", 0, 1e-3),
-      Key("contact.max_activation_loops", T::kInteger,
-          "loops of the activation; then the step is halved")
-          .def("10")
-          .in("[]", 1, 1000),
-      Key("contact.max_subdivisions", T::kInteger, "halvings of a step (4: down to dt / 16)")
-          .def("4")
-          .in("[]", 0, 12),
-      Key("contact.contact_spacing", T::kNumber, "sample points along the elements")
-          .unit("m")
-          .def("0.001")
-          .in("[]", 1e-5, 0.05),
-      Key("contact.penetration_tolerance", T::kNumber,
-          "a point beyond the wall by more is violated")
-          .unit("m")
-          .def("1e-6")
-          .in("[]", 1e-9, 1e-3),
-      Key("contact.keep_gap", T::kNumber,
-          "a wall contact that ended the last step without force at most this far from its plane "
-          "starts the next (at least penetration_tolerance; about the wall's travel in a step "
-          "where vessels move)")
-          .unit("m")
-          .def("0")
-          .in("[]", 0.0, 1e-3),
-      Key("contact.pair_tolerance", T::kNumber,
-          "effect 'device_contact': two device surfaces that overlap by more are violated (at "
-          "least penetration_tolerance; docs/performance.md)")
-          .unit("m")
-          .def("0")
-          .in("[]", 0.0, 1e-4),
-      Key("contact.new_pair_overlap", T::kNumber,
-          "effect 'device_contact': a device pair not held in the last step becomes a contact in "
-          "the step's first detection once its surfaces overlap by more than this (0: once they "
-          "touch; later loops: pair_tolerance; docs/performance.md)")
-          .unit("m")
-          .def("0")
-          .in("[]", 0.0, 1e-4),
-      Key("contact.row_turn", T::kNumber,
-          "a contact's normal row of H is formed again at the loop's iterate once a node tangent "
-          "of its element turned by more since the row was formed (0: every loop; an unchanged "
-          "row keeps its entries of W; docs/performance.md)")
-          .unit("rad")
-          .def("0.02")
-          .in("[]", 0.0, 0.1),
-      Key("contact.root_tolerance", T::kNumber, "the first root's position")
-          .unit("m")
-          .def("1e-11")
-          .in("(]", 0, 1e-6),
-      Key("contact.wall_curvature", T::kBool,
-          "the wall's curvature in the activation loop (docs/model.md)")
-          .def("true"),
-      Key("contact.curvature_loops", T::kInteger, "loops that update the curvature term")
-          .def("1000")
-          .in("[]", 1, 1000),
-      Key("contact.predict_first_iterate", T::kBool,
-          "the first loop detects and linearises at the free motion moved by the last step's "
-          "contact forces, not at the free motion (docs/model.md)")
-          .def("false"),
-      Key("contact.element_pairs", T::kBool,
-          "effect 'device_contact': pairs between the elements' axes, at their closest points, "
-          "with a swept test over each step (false: between sample points; docs/model.md)")
-          .def("false"),
-      Key("contact.lumen_tolerance", T::kNumber,
-          "effect 'coaxial': a point beyond its outer device's lumen by more is violated")
-          .unit("m")
-          .def("5e-6")
-          .in("[]", 1e-9, 1e-3),
-      Key("contact.lumen_settle", T::kNumber,
-          "effect 'coaxial': the loop goes on while a point held by the lumen's curvature slid "
-          "more than this fraction of the clearance")
-          .def("0.1")
-          .in("[]", 1e-4, 1),
-      Key("contact.friction_solver", T::kChoice, "effect 'friction': the solver")
-          .choices({"newton", "nsgs"})
-          .def("newton"),
-      Key("contact.friction_tolerance", T::kNumber, "Siconos' fc3d error")
-          .def("1e-10")
-          .in("(]", 0, 1e-2),
-      Key("contact.friction_max_sweeps", T::kInteger, "Newton steps or Gauss-Seidel sweeps")
-          .def("1000")
-          .in("[]", 1, 1e6),
+      // contact.*: the contact options' own table (contactRows below).
 
       Key("sleep", T::kMap,
           "a scene at rest stops solving steps until a command (or `sleep: false`)")
@@ -404,16 +315,46 @@ std::vector<SchemaEntry> makeSchema() {
   };
 }
 
+/// The rows of `contact:`, from the contact options' table
+/// (contact/contact_options.h): its defaults are ContactOptions{}'s.
+std::vector<SchemaEntry> contactRows() {
+  static const SchemaType type_of[] = {T::kNumber, T::kInteger, T::kBool, T::kChoice};
+  const ContactOptions defaults;
+  std::vector<SchemaEntry> rows;
+  for (const ContactOptionField& f : contactOptionFields()) {
+    SchemaEntry e;
+    e.path = "contact." + f.key;
+    e.type = type_of[static_cast<int>(f.type)];
+    e.unit = f.unit;
+    e.fallback = formatContactOption(f, defaults);
+    if (f.type == OptionType::kNumber || f.type == OptionType::kInteger) {
+      e.min = f.min, e.max = f.max, e.min_open = f.min_open, e.max_open = f.max_open;
+    }
+    e.choices = f.choices;
+    e.meaning = f.meaning;
+    rows.push_back(e);
+  }
+  return rows;
+}
+
+std::vector<SchemaEntry> withContactRows(std::vector<SchemaEntry> rows) {
+  const auto contact = std::find_if(rows.begin(), rows.end(),
+                                    [](const SchemaEntry& e) { return e.path == "contact"; });
+  const std::vector<SchemaEntry> options = contactRows();
+  rows.insert(contact + 1, options.begin(), options.end());
+  return rows;
+}
+
 }  // namespace
 
 const std::vector<SchemaEntry>& sceneSchema() {
-  static const std::vector<SchemaEntry> schema = makeSchema();
+  static const std::vector<SchemaEntry> schema = withContactRows(makeSchema());
   return schema;
 }
 
 const std::vector<RetiredKey>& retiredSceneKeys() {
   // Switches whose two settings give the same answer (their tests prove
-  // it): the faster one is always on; remove the key.
+  // it): the faster one is always on; and the solvers' own limits.
   static const std::vector<RetiredKey> keys = {
       {"contact.interior_balls",
        "is no longer a scene key: the certified interior balls always spare field evaluations "
@@ -427,6 +368,15 @@ const std::vector<RetiredKey>& retiredSceneKeys() {
       {"contact.slid_pair_warm_start",
        "is no longer a scene key: a new element pair next to a kept one always takes over its "
        "force as a warm start (the LCP has one answer); remove the key"},
+      {"contact.row_turn",
+       "is no longer a scene key: a contact's row is formed again once its element turned by "
+       "0.02 rad (forming every row in every loop gave the same answer); remove the key"},
+      {"contact.regularization",
+       "is no longer a scene key: the status method's regularisation is its own (1e-12 of W's "
+       "largest diagonal entry); contact.tolerance sets the answer's accuracy; remove the key"},
+      {"contact.friction_max_sweeps",
+       "is no longer a scene key: an unsolved frictional problem subdivides the step as any "
+       "unsolved step does; contact.friction_tolerance sets the accuracy; remove the key"},
   };
   return keys;
 }

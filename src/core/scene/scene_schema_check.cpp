@@ -10,47 +10,20 @@
 #include <sstream>
 
 #include "endovascular_sim/core/edit_distance.h"
+#include "endovascular_sim/core/number_text.h"
 #include "endovascular_sim/geometry/centerline.h"
 #include "endovascular_sim/scene/scene_schema.h"
 
 namespace evsim {
 namespace {
 
-/// A number as a reader writes it: 0.04, 3600, 1e-5, 1e6 (exponents for
-/// magnitudes below 1e-3 or from 1e6).
-std::string number(double v) {
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  const double a = std::abs(v);
-  char buf[32];
-  if (a != 0.0 && (a < 1e-3 || a >= 1e6)) {
-    std::snprintf(buf, sizeof buf, "%.6e", v);
-    std::string mantissa(buf, std::strchr(buf, 'e'));
-    while (mantissa.back() == '0') mantissa.pop_back();
-    if (mantissa.back() == '.') mantissa.pop_back();
-    return mantissa + "e" + std::to_string(static_cast<int>(std::floor(std::log10(a) + 1e-12)));
-  }
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
-std::string withUnit(const std::string& text, const std::string& unit) {
-  return unit.empty() ? text : text + " " + unit;
-}
-
 /// "[0, 0.04] s", "(0, 1]", "at least 1e-5 m"; "" without bounds.
 std::string rangeText(const SchemaEntry& e) {
-  const bool lo = std::isfinite(e.min), hi = std::isfinite(e.max);
-  if (lo && hi)
-    return withUnit(std::string(e.min_open ? "(" : "[") + number(e.min) + ", " + number(e.max) +
-                        (e.max_open ? ")" : "]"),
-                    e.unit);
-  if (lo) return withUnit((e.min_open ? "above " : "at least ") + number(e.min), e.unit);
-  if (hi) return withUnit((e.max_open ? "below " : "at most ") + number(e.max), e.unit);
-  return "";
+  return evsim::rangeText(e.min, e.max, e.min_open, e.max_open, e.unit);
 }
 
 bool inRange(const SchemaEntry& e, double v) {
-  return (e.min_open ? v > e.min : v >= e.min) && (e.max_open ? v < e.max : v <= e.max);
+  return evsim::inRange(v, e.min, e.max, e.min_open, e.max_open);
 }
 
 std::string list(const std::vector<std::string>& names) {

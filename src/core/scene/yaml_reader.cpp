@@ -72,6 +72,11 @@ std::string YamlReader::text(const YAML::Node& n, const std::string& field) cons
 
 void YamlReader::keys(const YAML::Node& n, const std::string& field,
                       std::initializer_list<const char*> allowed) const {
+  keys(n, field, std::vector<std::string>(allowed.begin(), allowed.end()));
+}
+
+void YamlReader::keys(const YAML::Node& n, const std::string& field,
+                      const std::vector<std::string>& allowed) const {
   if (!n.IsMap()) fail(n, field, "must be a map");
   std::set<std::string> seen;
   for (const auto& entry : n) {
@@ -82,9 +87,9 @@ void YamlReader::keys(const YAML::Node& n, const std::string& field,
     std::string nearest, list;
     size_t best = std::string::npos;
     bool known = false;
-    for (const char* a : allowed) {
+    for (const std::string& a : allowed) {
       known = known || key == a;
-      list += (list.empty() ? "" : ", ") + std::string(a);
+      list += (list.empty() ? "" : ", ") + a;
       const size_t d = editDistance(key, a);
       if (d < best) {
         best = d;

@@ -11,7 +11,6 @@
 
 #include "endovascular_sim/contact/coaxial.h"
 #include "endovascular_sim/core/load_error.h"
-#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/geometry/root_finding.h"
 #include "endovascular_sim/sim/drives.h"
 #include "endovascular_sim/sim/initial_placement.h"
@@ -85,17 +84,12 @@ std::string unsolvedContacts(const SceneModel& model, const ContactStats& cs) {
   return why.str();
 }
 
-/// Device states a (sub-)step at one depth of halving works in: the new
-/// states and where the contact solver ended. Kept per thread and depth, so
-/// that a step copies into storage of the right size instead of allocating
-/// it (a deque: a deeper halving adds buffers without moving these).
-struct StepBuffers {
-  std::vector<DeviceState> next, moved;
-};
-StepBuffers& stepBuffers(int depth) {
-  std::deque<StepBuffers>& buffers = threadCache<std::deque<StepBuffers>>();
-  while (static_cast<int>(buffers.size()) <= depth) buffers.emplace_back();
-  return buffers[depth];
+/// The states of a (sub-)step at one depth of halving (SimData::substeps),
+/// added as deeper halvings first need them (a deque: adding does not move
+/// the others).
+SubStepStates& subStepStates(SimData* data, int depth) {
+  while (static_cast<int>(data->substeps.size()) <= depth) data->substeps.emplace_back();
+  return data->substeps[depth];
 }
 
 /// One (sub-)step of length dt from data->devices; on success the new
@@ -130,6 +124,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
     pb.devices = &model.devices;
     pb.start = next;
     pb.workspaces = &data->workspaces;
+    pb.kept = &data->contact_workspace;
     pb.samples = &model.samples;
     pb.surface = model.surface.get();
     pb.interior = &data->interior_balls;
@@ -179,7 +174,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
 /// is unchanged.
 StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth,
                    StageTimer* clock) {
-  StepBuffers& buffers = stepBuffers(depth);
+  SubStepStates& buffers = subStepStates(data, depth);
   std::vector<DeviceState>& next = buffers.next;
   const StepStatus status = subStep(model, data, dt, &next, &buffers.moved, clock);
   if (status == StepStatus::kOk) {

@@ -37,7 +37,7 @@ SceneModel wireOnFloor(LcpSolver solver) {
   // Equilibrium to 1e-6 of the weight needs the contacts resolved finer than
   // the default 1 nm / 1 um bands, within which nodes may jitter by a few nm
   // per step (momentum changes of ~1e-5 of the weight).
-  m.contact.root.penetration_tolerance = 1e-12;
+  m.contact.root.crossing_depth = 1e-12;
   m.contact.penetration_tolerance = 1e-9;
   m.samples.push_back(sampleDevice(m.devices[0], m.contact.contact_spacing));
   return m;
@@ -271,7 +271,7 @@ SceneModel wireAcrossTwoWires() {
   m.gravity = Vec3(0, 0, -9.81);
   m.effects.device_contact = true;
   m.contact.contact_spacing = 1e-3;
-  m.contact.root.penetration_tolerance = 1e-12;
+  m.contact.root.crossing_depth = 1e-12;
   m.contact.penetration_tolerance = 1e-9;
   const BeamSection s = test::wireSection(60e9, 2e-4);
   DeviceSpec top = straightDeviceSpec("top", s, 0.06, 60);

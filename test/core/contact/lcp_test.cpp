@@ -127,11 +127,10 @@ TEST(Lcp, WarmStartedStatusMethodFindsTheSameGapsInFewerPivots) {
     const VecX q = l.q + l.W * d;
     VecX reference;
     ASSERT_EQ(test::siconosLcp(l.W, q, SICONOS_LCP_LEMKE, 1e-14, &reference), 0);
+    cold.resize(0);  // (an empty z: a cold start)
     ASSERT_EQ(solveLcp(l.W, q, {}, &cold, &cold_stats), LcpStatus::kSolved);
-    LcpOptions o;
-    o.warm_start = true;
     solveLcp(l.W, l.q, {}, &warm);  // this loop's forces ...
-    ASSERT_EQ(solveLcp(l.W, q, o, &warm, &warm_stats), LcpStatus::kSolved);  // ... start the next
+    ASSERT_EQ(solveLcp(l.W, q, {}, &warm, &warm_stats), LcpStatus::kSolved);  // ... start the next
     const VecX w_ref = l.W * reference + q;
     EXPECT_LT((l.W * warm + q - w_ref).norm(), 1e-8 * q.norm()) << seed;
     EXPECT_LT((l.W * cold + q - w_ref).norm(), 1e-8 * q.norm()) << seed;
@@ -192,24 +191,31 @@ TEST(Lcp, TheNextLoopsLcpStartsFromTheLastFactorForTheSameAnswer) {
       VecX reference;
       ASSERT_EQ(test::siconosLcp(next.W, next.q, SICONOS_LCP_LEMKE, 1e-14, &reference), 0);
       const VecX w_ref = next.W * reference + next.q;
-      LcpOptions o;
-      o.warm_start = true;
+      const LcpOptions o;  // (z of size c: the warm start)
       VecX forces;
-      ASSERT_EQ(solveLcp(first.W, first.q, {}, &forces), LcpStatus::kSolved);  // (kept)
+      LcpWorkspace kept;  // what the first solve leaves for the next
+      ASSERT_EQ(solveLcp(first.W, first.q, {}, &forces, nullptr, &kept), LcpStatus::kSolved);
+      LcpWorkspace after_first = kept;  // (a copy holds the same factor)
       VecX resumed = VecX::Zero(308);
       resumed.head(300) = forces;
       LcpStats st;
-      ASSERT_EQ(solveLcp(next.W, next.q, o, &resumed, &st), LcpStatus::kSolved);
+      ASSERT_EQ(solveLcp(next.W, next.q, o, &resumed, &st, &kept), LcpStatus::kSolved);
       EXPECT_EQ(st.resumed, changed == 5);
       // The same warm start from a fresh factor: another solve in between
       // keeps its own.
       VecX other = VecX::Ones(1);
-      solveLcp(MatX::Identity(1, 1), -VecX::Ones(1), {}, &other);
+      solveLcp(MatX::Identity(1, 1), -VecX::Ones(1), {}, &other, nullptr, &after_first);
       VecX fresh = VecX::Zero(308);
       fresh.head(300) = forces;
       LcpStats fresh_st;
-      ASSERT_EQ(solveLcp(next.W, next.q, o, &fresh, &fresh_st), LcpStatus::kSolved);
+      ASSERT_EQ(solveLcp(next.W, next.q, o, &fresh, &fresh_st, &after_first), LcpStatus::kSolved);
       EXPECT_FALSE(fresh_st.resumed);
+      // Without a workspace nothing is kept: a fresh factor.
+      VecX alone = VecX::Zero(308);
+      alone.head(300) = forces;
+      LcpStats alone_st;
+      ASSERT_EQ(solveLcp(next.W, next.q, o, &alone, &alone_st), LcpStatus::kSolved);
+      EXPECT_FALSE(alone_st.resumed);
       EXPECT_LT((next.W * resumed + next.q - w_ref).norm(), 1e-8 * next.q.norm());
       EXPECT_LT((next.W * fresh + next.q - w_ref).norm(), 1e-8 * next.q.norm());
       EXPECT_LE(lcpResidual(next.W, next.q, resumed), 1e-10);
@@ -245,10 +251,8 @@ TEST(Lcp, AWarmStartWithManyWrongForcesSwapsThemWithoutEvaluatingEveryGapEachTim
     VecX warm = reference;
     const size_t moved = std::min(with.size() * 2 / 5, without.size());
     for (size_t k = 0; k < moved; ++k) std::swap(warm(with[k]), warm(without[k]));
-    LcpOptions o;
-    o.warm_start = true;
     LcpStats st;
-    ASSERT_EQ(solveLcp(l.W, l.q, o, &warm, &st), LcpStatus::kSolved) << seed;
+    ASSERT_EQ(solveLcp(l.W, l.q, {}, &warm, &st), LcpStatus::kSolved) << seed;
     const VecX w_ref = l.W * reference + l.q;
     EXPECT_LT((l.W * warm + l.q - w_ref).norm(), 1e-8 * l.q.norm()) << seed;
     EXPECT_LE(lcpResidual(l.W, l.q, warm), 1e-10) << seed;
@@ -326,6 +330,7 @@ TEST(Lcp, AnInfeasibleProblemIsReportedAsSuch) {
   LcpStats st;
   EXPECT_EQ(solveLcp(W, q, o, &z, &st), LcpStatus::kInfeasible);
   o.solver = LcpSolver::kStatusMethod;
+  z.resize(0);
   EXPECT_EQ(solveLcp(W, q, o, &z, &st), LcpStatus::kUnsolved);  // an answer of W + eps I only
   std::printf("[ metric   ] infeasible LCP: the status method's residual %.3g\n", st.residual);
   EXPECT_GT(st.residual, 0.5);  // the sum of the gaps is -2 whatever z

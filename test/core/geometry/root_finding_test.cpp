@@ -176,10 +176,10 @@ TEST(FirstRoot, GrazingSegmentThatStaysInsideIsNotAHit) {
   const SurfacePoint slide = firstRoot(f, Vec3(0.0, y, 0), Vec3(1e-4, y, 0), 0.0);
   EXPECT_FALSE(slide.hit);
   EXPECT_LT(slide.iterations, 200);
-  // Sliding on the wall itself with a 1e-7 m contact tolerance: a 20 um step
+  // Sliding on the wall itself with a 1e-7 m crossing depth: a 20 um step
   // is certified in a handful of iterations.
   RootOptions contact;
-  contact.penetration_tolerance = 1e-7;
+  contact.crossing_depth = 1e-7;
   const SurfacePoint on =
       firstRoot(f, Vec3(0.0, 2e-3 - 1e-13, 0), Vec3(2e-5, 2e-3 - 1e-13, 0), 0.0, {}, contact);
   EXPECT_FALSE(on.hit);

@@ -120,7 +120,7 @@ TEST_F(Loader, PairToleranceIsReadAndChecked) {
 }
 
 TEST_F(Loader, ARetiredContactKeyIsRefusedWithWhatReplacedIt) {
-  // Each retired key (either setting gave the same answer) is refused by the
+  // Each retired key (either setting gave the same answer, or the solver owns it) is refused by the
   // loader and by the schema check, with its own reason, not as unknown.
   for (const RetiredKey& retired : retiredSceneKeys()) {
     const std::string key = retired.path.substr(retired.path.find('.') + 1);
