@@ -479,7 +479,7 @@ class NavigationNodeTest(unittest.TestCase):
         client = dynamic_reconfigure.client.Client('navigation_node', timeout=30)
         config = client.update_configuration({'lcp_tolerance': -1.0})
         self.assertGreater(config['lcp_tolerance'], 0.0)  # what is in force
-        self.wait_for(lambda: self.warnings_containing('lcp tolerance must lie in'),
+        self.wait_for(lambda: self.warnings_containing('contact.tolerance must lie in'),
                       'the solver option refusal')
         client.close()
 
