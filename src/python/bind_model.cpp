@@ -53,7 +53,7 @@ py::list effectNames(const EffectSet& e) {
   const std::pair<bool, const char*> all[] = {
       {e.gravity, "gravity"},   {e.vessel_motion, "vessel_motion"}, {e.device_contact, "device_contact"},
       {e.subdivision, "subdivision"}, {e.friction, "friction"}, {e.coaxial, "coaxial"},
-      {e.blood_drag, "blood_drag"}};
+      {e.blood_drag, "blood_drag"}, {e.vessel_deformation, "vessel_deformation"}};
   for (const auto& [on, name] : all)
     if (on) names.append(name);
   return names;

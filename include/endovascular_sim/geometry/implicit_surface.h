@@ -3,6 +3,7 @@
 // field is one; a plane is another (tests, simple scenes).
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "endovascular_sim/core/types.h"
@@ -10,8 +11,25 @@
 
 namespace evsim {
 
-/// Displacement of every motion region at one time (empty: at rest).
-using MotionSnapshot = std::vector<Vec3>;
+/// The shape of a vessel wall that gives way (geometry/vessel_wall.h) at
+/// one moment: each centreline point's displacement and radius change.
+struct WallShape {
+  long version{0};                    // unique per shape: what snapshots compare
+  std::vector<Vec3> displacement;     // per centreline point [m]
+  std::vector<double> radius_change;  // per centreline point [m]
+};
+
+/// The vessels at one time: the displacement of every motion region and,
+/// when the wall gives way, its shape (both empty: at rest).
+struct MotionSnapshot {
+  std::vector<Vec3> regions;              // [m]
+  std::shared_ptr<const WallShape> wall;  // null: the wall at rest
+  bool empty() const { return regions.empty() && !wall; }
+  bool operator==(const MotionSnapshot& o) const {
+    return regions == o.regions && (wall ? wall->version : -1) == (o.wall ? o.wall->version : -1);
+  }
+  bool operator!=(const MotionSnapshot& o) const { return !(*this == o); }
+};
 
 class ImplicitSurface {
  public:
@@ -28,15 +46,17 @@ class ImplicitSurface {
   // What a certified ball needs to follow a moving surface
   // (geometry/interior_ball.h); a surface that cannot say keeps the
   // defaults, and its balls hold for one snapshot only.
-  /// The change of the motion's displacement at x from snapshot m0 to m1 [m].
-  virtual Vec3 displacementChange(const Vec3& /*x*/, const MotionSnapshot& /*m0*/,
-                                  const MotionSnapshot& /*m1*/) const {
+  /// The change of the motion regions' displacement at x from the regions
+  /// of one snapshot, m0, to those of another, m1 [m].
+  virtual Vec3 displacementChange(const Vec3& /*x*/, const std::vector<Vec3>& /*m0*/,
+                                  const std::vector<Vec3>& /*m1*/) const {
     return Vec3::Zero();
   }
   /// kappa [-]: every point y of the surface's primitives moves, from m0 to
   /// m1, relative to the displacement change at any x, by at most kappa |y -
   /// x| (y at rest).
-  virtual double deformationRate(const MotionSnapshot& /*m0*/, const MotionSnapshot& /*m1*/) const {
+  virtual double deformationRate(const std::vector<Vec3>& /*m0*/,
+                                 const std::vector<Vec3>& /*m1*/) const {
     return 0.0;
   }
   /// a, b [-]: when every primitive point y moves by at most kappa |y - c|

@@ -36,6 +36,10 @@ struct MotionRegion {
 
 struct VesselFieldOptions {
   double alpha{0.6};  // iso radius / kernel width, in (0, 1): smaller blends more
+  /// The most a wall that gives way (MotionSnapshot::wall) moves a
+  /// centreline point and widens its radius [m]: the primitives' supports
+  /// are grown by it (0: the wall stays at rest).
+  double wall_reach{0.0};
 };
 
 class VesselField : public ImplicitSurface {
@@ -70,11 +74,17 @@ class VesselField : public ImplicitSurface {
   /// falloff slope times their displacement changes; the sensitivity sums,
   /// over the primitives listed in the grid cells of the box c +- half_width,
   /// the kernel's bounds (vessel_field.cpp).
-  Vec3 displacementChange(const Vec3& x, const MotionSnapshot& m0,
-                          const MotionSnapshot& m1) const override;
-  double deformationRate(const MotionSnapshot& m0, const MotionSnapshot& m1) const override;
+  Vec3 displacementChange(const Vec3& x, const std::vector<Vec3>& m0,
+                          const std::vector<Vec3>& m1) const override;
+  double deformationRate(const std::vector<Vec3>& m0, const std::vector<Vec3>& m1) const override;
   bool motionSensitivity(const Vec3& c, double half_width, double device_radius, double* a,
                          double* b) const override;
+  /// The vessel segment nearest to p as `motion` has moved it, among the
+  /// primitives listed in p's grid cell: its centreline points and the
+  /// parameter t in [0, 1] of its point nearest to p (what the wall's load
+  /// at p is shared by). False when the cell lists no segment.
+  bool nearestSegment(const Vec3& p, const MotionSnapshot& motion, int* point_a, int* point_b,
+                      double* t) const;
   /// Motion periods [s] of the regions (tests).
   std::vector<double> motionPeriods() const;
 
@@ -93,10 +103,11 @@ class VesselField : public ImplicitSurface {
  private:
   struct Segment {
     Vec3 a, b;
-    double rho;     // vessel radius [m]
-    int weights;    // offset of the endpoints' motion weights (2 * regions)
-    Vec3 axis;      // (b - a) / length, at rest
-    double length;  // |b - a| at rest [m]
+    double rho;            // vessel radius [m]
+    int weights;           // offset of the endpoints' motion weights (2 * regions)
+    Vec3 axis;             // (b - a) / length, at rest
+    double length;         // |b - a| at rest [m]
+    int point_a, point_b;  // the centreline points at a and b
   };
   struct Sphere {
     Vec3 c;
@@ -104,10 +115,12 @@ class VesselField : public ImplicitSurface {
     int weights;
   };
   Vec3 displaced(const Vec3& x, int weights, int endpoint, const MotionSnapshot& m) const;
-  /// A segment moved by a snapshot: its start, unit axis and length [m].
+  /// A segment moved by a snapshot: its start, unit axis and length [m],
+  /// and its radius.
   struct MovedSegment {
     Vec3 a, axis;
     double length;
+    double rho;  // the vessel radius as the wall's shape has it [m]
   };
   /// Per thread: the segments moved by the last snapshot this thread used
   /// with this field (vessel_field.cpp).
@@ -130,7 +143,7 @@ class VesselField : public ImplicitSurface {
   };
 
   long serial_{-1};  // unique per constructed field (the moved segments' cache key)
-  double alpha_{0.6}, iso_{0.0}, sphere_weight_{0.0};
+  double alpha_{0.6}, iso_{0.0}, sphere_weight_{0.0}, wall_reach_{0.0};
   std::vector<Segment> segments_;
   std::vector<Sphere> spheres_;
   std::vector<MotionRegion> motion_;

@@ -9,6 +9,7 @@
 #include "endovascular_sim/geometry/centerline_tree.h"
 #include "endovascular_sim/geometry/network_generator.h"
 #include "endovascular_sim/geometry/vessel_field.h"
+#include "endovascular_sim/geometry/vessel_wall.h"
 #include "endovascular_sim/mechanics/device_model.h"
 #include "endovascular_sim/mechanics/introducer.h"
 #include "endovascular_sim/scene/xray_spec.h"
@@ -72,6 +73,19 @@ struct SleepOptions {
 std::string validateSleepOptions(const SleepOptions& o);
 
 /// The vessels of a scene (none: free space).
+/// `vessels.wall`: the wall and its surroundings, for the effect
+/// 'vessel_deformation' (geometry/vessel_wall.h).
+struct WallSpec {
+  WallProperties all;  // every vessel the list does not name
+  double reach{2e-3};  // [m] the most a centreline point moves or a radius widens
+  struct Vessel {
+    std::string name;
+    WallProperties properties;
+    int line{0};  // of its `name`
+  };
+  std::vector<Vessel> vessels;  // per named vessel, checked against the vessels when built
+};
+
 struct VesselSpec {
   bool present{false};
   std::string centerline_file;  // resolved path: SWC, or VTK PolyData (.vtp, .vtk)
@@ -88,6 +102,7 @@ struct VesselSpec {
   NetworkOptions network;
   std::vector<AneurysmSpec> aneurysms;
   std::vector<MotionRegion> motion;  // used with effect 'vessel_motion'
+  WallSpec wall;                     // used with effect 'vessel_deformation'
 };
 
 struct SceneSpec {

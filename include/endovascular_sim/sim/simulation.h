@@ -32,13 +32,14 @@ namespace evsim {
 /// How often each effect's code ran since makeData (tests read them: an
 /// effect that is off stays at zero).
 struct EffectCounters {
-  long gravity{0};         // free motions loaded with gravity
-  long vessel_motion{0};   // motion snapshots of the vessels
-  long device_contact{0};  // passes of device-pair detection
-  long subdivision{0};     // steps halved
-  long friction{0};        // frictional contact problems solved
-  long coaxial{0};         // passes of lumen detection
-  long blood_drag{0};      // free motions loaded with the blood's drag
+  long gravity{0};             // free motions loaded with gravity
+  long vessel_motion{0};       // motion snapshots of the vessels
+  long device_contact{0};      // passes of device-pair detection
+  long subdivision{0};         // steps halved
+  long friction{0};            // frictional contact problems solved
+  long coaxial{0};             // passes of lumen detection
+  long blood_drag{0};          // free motions loaded with the blood's drag
+  long vessel_deformation{0};  // steps of the vessel wall
 };
 
 struct SceneModel {
@@ -51,7 +52,9 @@ struct SceneModel {
   std::shared_ptr<const ImplicitSurface> surface;  // what contacts are solved against
   std::shared_ptr<const VesselAtlas> atlas;        // the named vessels (null: free space)
   std::shared_ptr<const Centerline> centerline;    // the vessels' skeleton (null: free space)
-  std::string frame;  // the vessels' anatomical frame (geometry/patient_frame.h; "": unknown)
+  std::shared_ptr<const VesselWall> wall;          // effect 'vessel_deformation' (else null)
+  double wall_reach{0.0};  // [m] the most a centreline point moves or a radius widens
+  std::string frame;       // the vessels' anatomical frame (geometry/patient_frame.h; "": unknown)
   std::vector<AneurysmSpec> aneurysms;  // the domes blended with the vessels
   std::vector<Target> targets;          // the scene's navigation targets
   XraySpec xray;                        // the scene's X-ray system (`xray:`)
@@ -77,7 +80,8 @@ struct SceneModel {
 struct StepStats {
   double wall_ms{0.0};           // whole step [ms]
   FreeMotionTimes free_motion;   // [ms] all devices, every attempt
-  double vessel_motion_ms{0.0};  // [ms] effect 'vessel_motion': the motion snapshot
+  double vessel_motion_ms{0.0};  // [ms] effects 'vessel_motion', 'vessel_deformation': the
+                                 // motion snapshot, the wall's step
   ContactStats contact;          // times of every attempt, results of the accepted sub-steps
   double other_ms{0.0};  // [ms] the rest: script, drives, state copies, tips, forces, targets
   int subdivisions{0};   // sub-steps added by halving
@@ -128,6 +132,10 @@ struct SimData {
   // answer by round-off at most (a copy of the data steps as the original).
   ContactWorkspace contact_workspace;  // pair candidates, the loops' rows
   std::deque<SubStepStates> substeps;  // per depth of halving
+  // Effect 'vessel_deformation': the wall's shape now (null: at rest) and
+  // the factor its steps solve with.
+  std::shared_ptr<const WallShape> wall;
+  VesselWall::StepFactor wall_factor;
 };
 
 /// Throws LoadError when the spec is beyond the limits its scene states

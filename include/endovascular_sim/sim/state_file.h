@@ -4,7 +4,7 @@
 //
 // Text, one record per line, doubles to 17 significant digits (the state
 // comes back bit for bit):
-//   evsim_state 2
+//   evsim_state 4
 //   scene <name>
 //   clock <time [s]> <step> <next script entry> <resting steps> <asleep 0|1>
 //         (version 1 files end after the script entry: read as awake)
@@ -15,7 +15,9 @@
 //   contacts <count>
 //   contact <device> <sample> <point x3> <normal x3> <gap> <force> <other device>
 //           <other sample> <friction x3> <other element> <xi> <radius> <mu>
-//           <separation> <lumen 0|1>
+//           <separation> <lumen 0|1> <element> <xi> <radius> <mu>
+//   wall <points>   (effect 'vessel_deformation': the centreline's points; 0 at rest)
+//   wall_point <displacement [m] x3> <radius change [m]>      (per point)
 // The contacts are the last step's (the next step's warm start). Only the
 // state is saved: the scene comes from its own file, and must be the one
 // the state was saved from (its name, devices and node counts are checked).

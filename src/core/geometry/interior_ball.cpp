@@ -1,11 +1,12 @@
 // Certified interior balls (geometry/interior_ball.h): the ball radius from
 // g, |grad g| and a Hessian bound, used by contact detection to skip field
 // evaluations of points that stay in their ball.
-#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/geometry/interior_ball.h"
 
 #include <algorithm>
 #include <cmath>
+
+#include "endovascular_sim/core/thread_cache.h"
 
 namespace evsim {
 
@@ -31,9 +32,11 @@ InteriorBall interiorBall(const ImplicitSurface& surface, const Vec3& c, const F
   ball.reach = reach;
   ball.max_radius = max_radius;
   ball.device_radius = device_radius;
-  if (static_cast<int>(motion.size()) <= kMaxFollowedRegions) {
-    ball.regions = static_cast<int>(motion.size());
-    std::copy(motion.begin(), motion.end(), ball.motion.begin());
+  // A wall that gives way changes shape every step: its balls hold for
+  // one snapshot only.
+  if (!motion.wall && static_cast<int>(motion.regions.size()) <= kMaxFollowedRegions) {
+    ball.regions = static_cast<int>(motion.regions.size());
+    std::copy(motion.regions.begin(), motion.regions.end(), ball.motion.begin());
     ball.follows = true;
   }
   return ball;
@@ -43,24 +46,26 @@ Ball followBall(InteriorBall* kept, const ImplicitSurface& surface, const Motion
   const InteriorBall& ball = *kept;
   const Ball as_certified{ball.center, ball.radius};
   if (ball.radius <= 0.0 || motion.empty()) return as_certified;
-  if (ball.regions != static_cast<int>(motion.size()) || !ball.follows) return Ball{};
-  if (std::equal(motion.begin(), motion.end(), ball.motion.begin())) return as_certified;
+  if (motion.wall || ball.regions != static_cast<int>(motion.regions.size()) || !ball.follows)
+    return Ball{};
+  const std::vector<Vec3>& regions = motion.regions;
+  if (std::equal(regions.begin(), regions.end(), ball.motion.begin())) return as_certified;
   // The balls certified at one snapshot share kappa: kept for the last one.
   struct LastKappa {
-    MotionSnapshot then, now;
+    std::vector<Vec3> then, now;
     double kappa{0.0};
   };
   LastKappa& last = threadCache<LastKappa>();
-  if (last.now != motion || !std::equal(last.then.begin(), last.then.end(), ball.motion.begin()) ||
+  if (last.now != regions || !std::equal(last.then.begin(), last.then.end(), ball.motion.begin()) ||
       static_cast<int>(last.then.size()) != ball.regions) {
     last.then.assign(ball.motion.begin(), ball.motion.begin() + ball.regions);
-    last.now = motion;
-    last.kappa = surface.deformationRate(last.then, motion);
+    last.now = regions;
+    last.kappa = surface.deformationRate(last.then, regions);
   }
   if (!ball.sensed && ball.hint_a >= 0.0 &&
       ball.value <= ball.hint_a * last.kappa + ball.hint_b * last.kappa * last.kappa)
     return Ball{};  // (InteriorBall::hint_a)
-  const Vec3 shift = surface.displacementChange(ball.center, last.then, motion);
+  const Vec3 shift = surface.displacementChange(ball.center, last.then, regions);
   if (shift.squaredNorm() > kBallSlack * kBallSlack) return Ball{};
   if (!ball.sensed) {
     // (over the cap's box, not the ball's: one box for every ball, which a

@@ -1,7 +1,6 @@
 // The implicit vessel surface: a convolution field of centreline segments (and
 // aneurysm spheres), indexed by a uniform grid over their supports. Declared
 // and documented in endovascular_sim/geometry/vessel_field.h.
-#include "endovascular_sim/core/thread_cache.h"
 #include "endovascular_sim/geometry/vessel_field.h"
 
 #include <algorithm>
@@ -11,6 +10,8 @@
 #include <limits>
 #include <stdexcept>
 #include <unordered_map>
+
+#include "endovascular_sim/core/thread_cache.h"
 
 namespace evsim {
 namespace {
@@ -49,10 +50,11 @@ double segmentBoxDistance(const Vec3& a, const Vec3& b, const Eigen::AlignedBox3
 
 VesselField::VesselField(const Centerline& centerline, const std::vector<AneurysmSpec>& aneurysms,
                          const std::vector<MotionRegion>& motion, const VesselFieldOptions& options)
-    : alpha_(options.alpha), motion_(motion) {
+    : alpha_(options.alpha), wall_reach_(options.wall_reach), motion_(motion) {
   static std::atomic<long> serials{0};
   serial_ = serials++;
   if (!(alpha_ > 0.0 && alpha_ < 1.0)) throw std::invalid_argument("alpha must lie in (0, 1)");
+  if (!(wall_reach_ >= 0.0)) throw std::invalid_argument("wall_reach must not be negative");
   iso_ = isoValueForAlpha(alpha_);
   sphere_weight_ = iso_ / std::pow(1.0 - alpha_ * alpha_, 3);
   const int nr = static_cast<int>(motion_.size());
@@ -68,7 +70,9 @@ VesselField::VesselField(const Centerline& centerline, const std::vector<Aneurys
               0.5 * (centerline.radius[p] + centerline.radius[i]),
               static_cast<int>(motion_weights_.size()),
               Vec3::Zero(),
-              0.0};
+              0.0,
+              p,
+              i};
     const Vec3 ab = s.b - s.a;
     s.length = ab.norm();
     if (s.length > 0.0) s.axis = ab / s.length;
@@ -90,10 +94,10 @@ VesselField::VesselField(const Centerline& centerline, const std::vector<Aneurys
 
 Vec3 VesselField::displaced(const Vec3& x, int weights, int endpoint,
                             const MotionSnapshot& m) const {
-  if (m.empty()) return x;
+  if (m.regions.empty()) return x;
   Vec3 y = x;
   const double* w = &motion_weights_[weights + endpoint * motion_.size()];
-  for (size_t k = 0; k < m.size(); ++k) y += w[k] * m[k];
+  for (size_t k = 0; k < m.regions.size(); ++k) y += w[k] * m.regions[k];
   return y;
 }
 
@@ -127,7 +131,15 @@ const VesselField::MovedSegment& VesselField::moved(MovedCache& cache, int id,
   if (cache.stamp[id] != cache.epoch) {
     const Segment& s = segments_[id];
     m.a = displaced(s.a, s.weights, 0, motion);
-    const Vec3 ab = displaced(s.b, s.weights, 1, motion) - m.a;
+    Vec3 b = displaced(s.b, s.weights, 1, motion);
+    m.rho = s.rho;
+    if (motion.wall) {  // the skeleton's points moved, the radii changed
+      const WallShape& w = *motion.wall;
+      m.a += w.displacement[s.point_a];
+      b += w.displacement[s.point_b];
+      m.rho += 0.5 * (w.radius_change[s.point_a] + w.radius_change[s.point_b]);
+    }
+    const Vec3 ab = b - m.a;
     m.length = ab.norm();  // the same arithmetic as addSegmentField's
     m.axis = m.length > 0.0 ? Vec3(ab / m.length) : Vec3::Zero();
     cache.stamp[id] = cache.epoch;
@@ -137,20 +149,21 @@ const VesselField::MovedSegment& VesselField::moved(MovedCache& cache, int id,
 
 Vec3 VesselField::displacement(const Vec3& x, const MotionSnapshot& m) const {
   Vec3 u = Vec3::Zero();
-  for (size_t k = 0; k < m.size() && k < motion_.size(); ++k)
-    u += falloff((x - motion_[k].center).norm() / motion_[k].radius) * m[k];
+  for (size_t k = 0; k < m.regions.size() && k < motion_.size(); ++k)
+    u += falloff((x - motion_[k].center).norm() / motion_[k].radius) * m.regions[k];
   return u;
 }
 
-Vec3 VesselField::displacementChange(const Vec3& x, const MotionSnapshot& m0,
-                                     const MotionSnapshot& m1) const {
+Vec3 VesselField::displacementChange(const Vec3& x, const std::vector<Vec3>& m0,
+                                     const std::vector<Vec3>& m1) const {
   Vec3 du = Vec3::Zero();
   for (size_t k = 0; k < motion_.size() && k < m0.size() && k < m1.size(); ++k)
     du += falloff((x - motion_[k].center).norm() / motion_[k].radius) * (m1[k] - m0[k]);
   return du;
 }
 
-double VesselField::deformationRate(const MotionSnapshot& m0, const MotionSnapshot& m1) const {
+double VesselField::deformationRate(const std::vector<Vec3>& m0,
+                                    const std::vector<Vec3>& m1) const {
   // |falloff'(s)| = 4 s (1 - s^2) <= 8 / (3 sqrt 3) = 1.5396 (at s^2 = 1/3):
   // two points of one region's weights differ by at most that over its
   // radius per metre between them (rounded up).
@@ -284,7 +297,7 @@ bool VesselField::motionSensitivity(const Vec3& c, double half_width, double dev
 MotionSnapshot VesselField::motionAt(double t) const {
   MotionSnapshot m;
   for (const auto& r : motion_)
-    m.push_back(r.amplitude * std::sin(2.0 * M_PI * r.frequency * t + r.phase));
+    m.regions.push_back(r.amplitude * std::sin(2.0 * M_PI * r.frequency * t + r.phase));
   return m;
 }
 
@@ -306,7 +319,10 @@ void VesselField::buildGrid() {
     return d;
   };
   for (const auto& s : segments_) {
-    const double R = s.rho / alpha_ + std::max(reach(s.weights, 0), reach(s.weights, 1));
+    // (a wall that gives way moves the points by at most wall_reach_ and
+    // widens the kernel by at most wall_reach_ / alpha_)
+    const double R = s.rho / alpha_ + std::max(reach(s.weights, 0), reach(s.weights, 1)) +
+                     wall_reach_ * (1.0 + 1.0 / alpha_);
     Eigen::AlignedBox3d b(s.a.cwiseMin(s.b), s.a.cwiseMax(s.b));
     boxes.emplace_back(b.min() - Vec3::Constant(R), b.max() + Vec3::Constant(R));
     support.push_back(R);
@@ -419,13 +435,13 @@ FieldSample VesselField::evaluate(const Vec3& p, double device_radius,
       const int id = cell_items_[k];
       if (id < ns) {
         const Segment& s = segments_[id];
-        const double R = (s.rho - device_radius) / alpha_;
-        if (R <= 0.0) continue;
         if (motion.empty()) {  // at rest: the axis and length kept
-          if (s.length > 0.0) addSegmentFieldAlong(s.a, s.axis, s.length, R, p, &out);
+          const double R = (s.rho - device_radius) / alpha_;
+          if (R > 0.0 && s.length > 0.0) addSegmentFieldAlong(s.a, s.axis, s.length, R, p, &out);
         } else {
           const MovedSegment& m = moved(*cache, id, motion);
-          if (m.length > 0.0) addSegmentFieldAlong(m.a, m.axis, m.length, R, p, &out);
+          const double R = (m.rho - device_radius) / alpha_;
+          if (R > 0.0 && m.length > 0.0) addSegmentFieldAlong(m.a, m.axis, m.length, R, p, &out);
         }
       } else {
         const Sphere& s = spheres_[id - ns];
@@ -437,6 +453,38 @@ FieldSample VesselField::evaluate(const Vec3& p, double device_radius,
   }
   out.value -= iso_;
   return out;
+}
+
+bool VesselField::nearestSegment(const Vec3& p, const MotionSnapshot& motion, int* point_a,
+                                 int* point_b, double* t) const {
+  int x, y, z;
+  if (!cellOf(p, &x, &y, &z)) return false;
+  const long c = cellIndex(x, y, z);
+  const int ns = static_cast<int>(segments_.size());
+  MovedCache* cache = motion.empty() ? nullptr : &movedCache(motion);
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+    const int id = cell_items_[k];
+    if (id >= ns) continue;
+    const Segment& s = segments_[id];
+    Vec3 a = s.a, axis = s.axis;
+    double length = s.length;
+    if (cache) {
+      const MovedSegment& m = moved(*cache, id, motion);
+      a = m.a;
+      axis = m.axis;
+      length = m.length;
+    }
+    const double along = std::clamp((p - a).dot(axis), 0.0, length);
+    const double d = (p - a - along * axis).squaredNorm();
+    if (d < best) {
+      best = d;
+      *point_a = s.point_a;
+      *point_b = s.point_b;
+      *t = length > 0.0 ? along / length : 0.0;
+    }
+  }
+  return best < std::numeric_limits<double>::infinity();
 }
 
 double VesselField::cellHessianBound(long c, double device_radius) const {

@@ -284,9 +284,9 @@ std::string validateSleepOptions(const SleepOptions& o) {
 }
 
 const std::vector<std::string>& knownEffects() {
-  static const std::vector<std::string> effects = {"gravity",     "vessel_motion", "device_contact",
-                                                   "subdivision", "friction",      "coaxial",
-                                                   "blood_drag"};
+  static const std::vector<std::string> effects = {
+      "gravity",  "vessel_motion", "device_contact", "subdivision",
+      "friction", "coaxial",       "blood_drag",     "vessel_deformation"};
   return effects;
 }
 

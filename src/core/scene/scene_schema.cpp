@@ -128,6 +128,39 @@ std::vector<SchemaEntry> makeSchema() {
           .req()
           .in("(]", 0, 10),
       Key("vessels.motion[].phase", T::kNumber, "phase").unit("rad").def("0"),
+      Key("vessels.wall", T::kMap,
+          "the wall and the tissue around it, used with the effect 'vessel_deformation' "
+          "(docs/vessel_wall.md)"),
+      Key("vessels.wall.distensibility", T::kNumber,
+          "relative lumen area change per pressure (carotid about 1.2e-5)")
+          .unit("1/Pa")
+          .def("1.2e-05")
+          .in("(]", 0, 1e-3),
+      Key("vessels.wall.tether_stiffness", T::kNumber,
+          "the surrounding tissue's pull back to rest per length and displacement")
+          .unit("N/m^2")
+          .def("5000")
+          .in("(]", 0, 1e7),
+      Key("vessels.wall.tether_damping", T::kNumber, "its damping per length and velocity")
+          .unit("N s/m^2")
+          .def("50")
+          .in("(]", 0, 1e5),
+      Key("vessels.wall.reach", T::kNumber, "the most a centreline point moves, or a radius widens")
+          .unit("m")
+          .def("0.002")
+          .in("(]", 0, 0.02),
+      Key("vessels.wall.vessels", T::kList, "named vessels with their own wall"),
+      Key("vessels.wall.vessels[]", T::kMap, "a vessel's wall (unset keys: vessels.wall's)"),
+      Key("vessels.wall.vessels[].name", T::kText, "the vessel's name").req(),
+      Key("vessels.wall.vessels[].distensibility", T::kNumber, "as vessels.wall's")
+          .unit("1/Pa")
+          .in("(]", 0, 1e-3),
+      Key("vessels.wall.vessels[].tether_stiffness", T::kNumber, "as vessels.wall's")
+          .unit("N/m^2")
+          .in("(]", 0, 1e7),
+      Key("vessels.wall.vessels[].tether_damping", T::kNumber, "as vessels.wall's")
+          .unit("N s/m^2")
+          .in("(]", 0, 1e5),
 
       Key("devices", T::kList, "the devices, at least one").req(),
       Key("devices[]", T::kMap, "a device and where it enters"),

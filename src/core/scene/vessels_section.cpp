@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "endovascular_sim/core/load_error.h"
+#include "endovascular_sim/core/number_text.h"
 #include "endovascular_sim/geometry/patient_frame.h"
 #include "endovascular_sim/scene/centerline_scene.h"
 #include "endovascular_sim/scene/centerline_vtk.h"
@@ -124,6 +125,51 @@ void readMotion(const YamlReader& r, const YAML::Node& list, VesselSpec* v) {
   }
 }
 
+/// The wall properties of `n` (keys of `prefix`), the rest as `fallback`.
+WallProperties readWallProperties(const YamlReader& r, const YAML::Node& n,
+                                  const std::string& prefix, const WallProperties& fallback) {
+  WallProperties w;
+  const auto read = [&](const char* key, double def, double hi, const char* unit) {
+    const double x = r.number(n, key, prefix, def);
+    if (!(x > 0.0 && x <= hi))
+      r.fail(n[key], prefix + key,
+             "must lie in (0, " + numberText(hi) + "] " + unit + ", got " + numberText(x));
+    return x;
+  };
+  w.distensibility = read("distensibility", fallback.distensibility, 1e-3, "1/Pa");
+  w.tether_stiffness = read("tether_stiffness", fallback.tether_stiffness, 1e7, "N/m^2");
+  w.tether_damping = read("tether_damping", fallback.tether_damping, 1e5, "N s/m^2");
+  return w;
+}
+
+/// `wall: {distensibility, tether_stiffness, tether_damping, reach,
+/// vessels: [{name, distensibility, ...}]}`.
+void readWall(const YamlReader& r, const YAML::Node& n, VesselSpec* v) {
+  r.keys(n, "vessels.wall",
+         {"distensibility", "tether_stiffness", "tether_damping", "reach", "vessels"});
+  WallSpec& w = v->wall;
+  w.all = readWallProperties(r, n, "vessels.wall.", WallProperties{});
+  w.reach = r.number(n, "reach", "vessels.wall.", w.reach);
+  if (!(w.reach > 0.0 && w.reach <= 0.02))
+    r.fail(n["reach"], "vessels.wall.reach", "must lie in (0, 0.02] m, got " + numberText(w.reach));
+  if (!n["vessels"]) return;
+  const YAML::Node list = n["vessels"];
+  if (!list.IsSequence()) r.fail(list, "vessels.wall.vessels", "must be a list");
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string p = "vessels.wall.vessels[" + std::to_string(i) + "].";
+    r.keys(list[i], p.substr(0, p.size() - 1),
+           {"name", "distensibility", "tether_stiffness", "tether_damping"});
+    WallSpec::Vessel one;
+    const YAML::Node name = r.required(list[i], "name", p + "name");
+    one.name = r.text(name, p + "name");
+    one.line = name.Mark().line + 1;
+    one.properties = readWallProperties(r, list[i], p, w.all);
+    for (const WallSpec::Vessel& other : w.vessels)
+      if (other.name == one.name) r.fail(name, p + "name", "'" + one.name + "' is listed twice");
+    w.vessels.push_back(one);
+  }
+}
+
 }  // namespace
 
 VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path& scene_dir) {
@@ -131,7 +177,7 @@ VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path&
   v.present = true;
   r.keys(n, "vessels",
          {"centerline", "units", "frame", "blend", "network", "aneurysms", "motion", "radius_array",
-          "tolerance", "radius_tolerance", "inlet", "names"});
+          "tolerance", "radius_tolerance", "inlet", "names", "wall"});
   const fs::path file =
       r.text(r.required(n, "centerline", "vessels.centerline"), "vessels.centerline");
   v.centerline_file = (file.is_absolute() ? file : scene_dir / file).lexically_normal().string();
@@ -156,6 +202,7 @@ VesselSpec readVessels(const YamlReader& r, const YAML::Node& n, const fs::path&
   if (n["network"]) readNetwork(r, n["network"], &v);
   if (n["aneurysms"]) readAneurysms(r, n["aneurysms"], &v);
   if (n["motion"]) readMotion(r, n["motion"], &v);
+  if (n["wall"]) readWall(r, n["wall"], &v);
   return v;
 }
 

@@ -262,6 +262,45 @@ Vec3 sceneGravity(const SceneSpec& spec, const std::string& frame,
 
 }  // namespace
 
+namespace {
+
+/// Per vessel of the centreline (vessel_names' order), its wall: the
+/// scene's `vessels.wall`, or its own entry in `vessels.wall.vessels`
+/// (a name no vessel has is refused).
+std::vector<WallProperties> wallProperties(const SceneSpec& spec, const Centerline& c) {
+  const WallSpec& w = spec.vessels.wall;
+  std::vector<WallProperties> out(c.vessel_names.size(), w.all);
+  for (size_t i = 0; i < w.vessels.size(); ++i) {
+    const auto at = std::find(c.vessel_names.begin(), c.vessel_names.end(), w.vessels[i].name);
+    if (at == c.vessel_names.end()) {
+      std::string names;
+      for (const std::string& n : c.vessel_names) names += (names.empty() ? "" : ", ") + n;
+      throw LoadError(spec.file, w.vessels[i].line,
+                      "vessels.wall.vessels[" + std::to_string(i) + "].name",
+                      "no vessel '" + w.vessels[i].name + "' (the vessels: " + names + ")");
+    }
+    out[at - c.vessel_names.begin()] = w.vessels[i].properties;
+  }
+  return out;
+}
+
+/// The centreline points an introducer sheath holds at rest: those within
+/// kSheathHold of a device's access point, or within their own radius.
+std::vector<int> sheathedPoints(const SceneSpec& spec, const Centerline& c) {
+  constexpr double kSheathHold = 5e-3;  // [m]
+  std::vector<int> held;
+  for (int i = 0; i < c.numPoints(); ++i)
+    for (const DevicePlacementSpec& d : spec.devices)
+      if ((c.position[i] - d.introducer.access_point).norm() <=
+          std::max(kSheathHold, c.radius[i])) {
+        held.push_back(i);
+        break;
+      }
+  return held;
+}
+
+}  // namespace
+
 SceneModel buildSceneModel(const SceneSpec& file_spec) {
   checkSceneLimits(file_spec);
   SceneSpec spec = file_spec;  // devices at the inlet placed below
@@ -284,6 +323,8 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
       m.effects.coaxial = true;
     else if (e == "blood_drag")
       m.effects.blood_drag = true;
+    else if (e == "vessel_deformation")
+      m.effects.vessel_deformation = true;
   std::shared_ptr<VesselField> field;  // tabulated once the devices' radii are known
   if (!spec.vessels.present && !spec.posture.empty())
     throw LoadError(spec.file, spec.gravity_line, "gravity",
@@ -300,10 +341,15 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
     // only now for an outer device at the inlet.
     for (DevicePlacementSpec& d : spec.devices)
       if (d.outer >= 0) d.introducer = spec.devices[d.outer].introducer;
+    VesselFieldOptions field_options = spec.vessels.field;
+    if (m.effects.vessel_deformation) {
+      m.wall = std::make_shared<const VesselWall>(centerline, wallProperties(spec, centerline),
+                                                  sheathedPoints(spec, centerline));
+      m.wall_reach = field_options.wall_reach = spec.vessels.wall.reach;
+    }
     field = std::make_shared<VesselField>(
         centerline, spec.vessels.aneurysms,
-        m.effects.vessel_motion ? spec.vessels.motion : std::vector<MotionRegion>{},
-        spec.vessels.field);
+        m.effects.vessel_motion ? spec.vessels.motion : std::vector<MotionRegion>{}, field_options);
     m.vessels = field;
     warnAcrossTheVessel(spec, centerline, *m.vessels, &m.warnings);
     m.surface = m.vessels;
@@ -316,7 +362,10 @@ SceneModel buildSceneModel(const SceneSpec& file_spec) {
   m.targets = resolveTargets(spec, m.atlas.get());
   m.contact = spec.contact;
   m.sleep = spec.sleep;
-  if (m.effects.vessel_motion) m.sleep.enabled = false;
+  if (m.effects.vessel_motion || m.effects.vessel_deformation) m.sleep.enabled = false;
+  if (m.effects.vessel_deformation && !m.wall)
+    throw LoadError(spec.file, 0, "effects",
+                    "'vessel_deformation' needs vessels: it is their wall that gives way");
   for (const auto& d : spec.devices) {
     m.devices.push_back(buildDeviceModel(d.device));
     if (m.effects.blood_drag)

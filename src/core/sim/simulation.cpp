@@ -136,6 +136,7 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
       clock->end(&data->stats.vessel_motion_ms);
       ++data->effect_calls.vessel_motion;
     }
+    if (model.effects.vessel_deformation) pb.motion.wall = data->wall;  // as the last step left it
     if (data->record_lcp) {
       data->lcp = LcpRecord{};
       pb.record = &data->lcp;
@@ -169,6 +170,47 @@ StepStatus subStep(const SceneModel& model, SimData* data, double dt,
   return StepStatus::kOk;
 }
 
+/// Effect 'vessel_deformation': one step of dt [s] of the wall under the
+/// reactions of the contacts just solved (-lambda n at each wall contact,
+/// shared by the two centreline points of the segment nearest to it); the
+/// next step's contacts are solved against the shape it takes. A point
+/// moves, and a radius widens, by at most the scene's wall reach.
+void giveWay(const SceneModel& model, SimData* data, double dt, StageTimer* clock) {
+  clock->begin();
+  ++data->effect_calls.vessel_deformation;
+  const VesselWall& wall = *model.wall;
+  const int n = wall.numNodes();
+  MotionSnapshot now;
+  if (model.effects.vessel_motion) now = model.vessels->motionAt(data->time);
+  now.wall = data->wall;
+  std::vector<Vec3> loads(n, Vec3::Zero());
+  std::vector<double> pressing(n, 0.0);  // [N] outward, per centreline point
+  for (const Contact& c : data->contacts) {
+    if (c.other_device >= 0 || c.lumen || !(c.force > 0.0)) continue;
+    int a = 0, b = 0;
+    double t = 0.0;
+    if (!model.vessels->nearestSegment(c.point, now, &a, &b, &t)) continue;
+    loads[a] -= (1.0 - t) * c.force * c.normal;
+    loads[b] -= t * c.force * c.normal;
+    pressing[a] += (1.0 - t) * c.force;
+    pressing[b] += t * c.force;
+  }
+  auto shape = std::make_shared<WallShape>();
+  shape->version = newWallShapeVersion();
+  shape->displacement = data->wall ? data->wall->displacement : std::vector<Vec3>(n, Vec3::Zero());
+  wall.step(loads, dt, &data->wall_factor, &shape->displacement);
+  shape->radius_change.resize(n);
+  const double reach = model.wall_reach;
+  for (int i = 0; i < n; ++i) {
+    Vec3& u = shape->displacement[i];
+    if (u.norm() > reach) u *= reach / u.norm();
+    shape->radius_change[i] =
+        std::min(wall.radiusChange(i, pressing[i] / wall.nodeLength(i)), reach);
+  }
+  data->wall = std::move(shape);
+  clock->end(&data->stats.vessel_motion_ms);
+}
+
 /// Advances by dt; a step whose contacts are not solved is redone as two
 /// halves, recursively up to the subdivision limit. On failure data->devices
 /// is unchanged.
@@ -182,6 +224,7 @@ StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth,
     // Python front's arrays view them).
     for (size_t i = 0; i < next.size(); ++i) copyState(next[i], &data->devices[i]);
     data->time += dt;
+    if (model.effects.vessel_deformation) giveWay(model, data, dt, clock);
     return status;
   }
   if (status != StepStatus::kContactsUnsolved || !model.effects.subdivision ||
@@ -190,12 +233,14 @@ StepStatus advance(const SceneModel& model, SimData* data, double dt, int depth,
   ++data->effect_calls.subdivision;
   const std::vector<DeviceState> saved = data->devices;
   const double saved_time = data->time;
+  const std::shared_ptr<const WallShape> saved_wall = data->wall;
   data->stats.subdivisions += 1;
   for (int half = 0; half < 2; ++half) {
     const StepStatus s = advance(model, data, 0.5 * dt, depth + 1, clock);
     if (s != StepStatus::kOk) {
       for (size_t i = 0; i < saved.size(); ++i) copyState(saved[i], &data->devices[i]);
       data->time = saved_time;
+      data->wall = saved_wall;
       return s;
     }
   }

@@ -15,8 +15,9 @@
 namespace evsim {
 namespace {
 
-constexpr int kVersion = 3;  // 1: without the sleep fields of `clock` (read as awake); 2:
-                             // without a pair contact's own point (read as its sample)
+constexpr int kVersion = 4;  // 1: without the sleep fields of `clock` (read as awake); 2:
+                             // without a pair contact's own point (read as its sample);
+                             // 3: without the wall's shape (read as at rest)
 
 /// One record per line: a key, then fields read in order; every error names
 /// the file, the line and the field. A wrong value that leaves the file
@@ -122,9 +123,8 @@ void appendVec3(std::string* out, const Vec3& v) {
 
 std::string stateText(const SceneModel& model, const SimData& data) {
   std::string f;
-  appendf(&f, "evsim_state %d\nscene %s\nclock %.17g %ld %zu %d %d\n", kVersion,
-          model.name.c_str(), data.time, data.step, data.next_script_entry, data.resting_steps,
-          data.asleep ? 1 : 0);
+  appendf(&f, "evsim_state %d\nscene %s\nclock %.17g %ld %zu %d %d\n", kVersion, model.name.c_str(),
+          data.time, data.step, data.next_script_entry, data.resting_steps, data.asleep ? 1 : 0);
   for (size_t d = 0; d < data.devices.size(); ++d) {
     const DeviceState& s = data.devices[d];
     appendf(&f, "device %s %zu %.17g %.17g %d %d\n", model.devices[d].name.c_str(),
@@ -155,6 +155,13 @@ std::string stateText(const SceneModel& model, const SimData& data) {
     appendf(&f, " %d %.17g %.17g %.17g\n", c.self.element, c.self.xi, c.self.radius,
             c.self.friction);
   }
+  const size_t wall_points = data.wall ? data.wall->displacement.size() : 0;
+  appendf(&f, "wall %zu\n", wall_points);
+  for (size_t i = 0; i < wall_points; ++i) {
+    appendf(&f, "wall_point");
+    appendVec3(&f, data.wall->displacement[i]);
+    appendf(&f, " %.17g\n", data.wall->radius_change[i]);
+  }
   return f;
 }
 
@@ -179,6 +186,7 @@ struct LoadedState {
   std::vector<Contact> contacts;
   int resting_steps{0};
   bool asleep{false};
+  std::shared_ptr<const WallShape> wall;  // effect 'vessel_deformation' (null: at rest)
 };
 
 /// The `clock` record: time, step, script position (and from version 2
@@ -287,9 +295,34 @@ std::vector<Contact> readContacts(const SceneModel& model, long version, Reader*
   return contacts;
 }
 
+/// The `wall` count and one `wall_point` record each (version 4): the
+/// shape of a wall that gives way, none (0) when it is at rest.
+std::shared_ptr<const WallShape> readWall(const SceneModel& model, Reader* r) {
+  r->record("wall");
+  const long points = model.wall ? model.wall->numNodes() : 0;
+  const long count = r->integer("wall points", 0, points);
+  if (count != 0 && count != points)
+    r->fail("wall points", "0 or the vessels' " + std::to_string(points) + " centreline points");
+  r->end("wall");
+  if (count == 0) return nullptr;
+  auto shape = std::make_shared<WallShape>();
+  shape->version = newWallShapeVersion();
+  shape->displacement.resize(count);
+  shape->radius_change.resize(count);
+  for (long i = 0; i < count; ++i) {
+    r->record("wall_point");
+    shape->displacement[i] = r->vec3("displacement");
+    shape->radius_change[i] = r->real("radius change");
+    if (shape->displacement[i].norm() > model.wall_reach * (1 + 1e-12) ||
+        shape->radius_change[i] < 0.0 || shape->radius_change[i] > model.wall_reach * (1 + 1e-12))
+      r->problem("wall_point", "beyond the scene's vessels.wall.reach");
+    r->end("wall_point");
+  }
+  return shape;
+}
+
 /// Reads a state from `in` (errors name `path`) into `data`, unchanged on error.
-void readState(const SceneModel& model, const std::string& path, std::istream& in,
-               SimData* data) {
+void readState(const SceneModel& model, const std::string& path, std::istream& in, SimData* data) {
   Reader r(path, in);
   LoadedState next;
   next.devices = data->devices;
@@ -306,6 +339,7 @@ void readState(const SceneModel& model, const std::string& path, std::istream& i
   for (int d = 0; d < nd; ++d) readDevice(model, d, &r, &next.devices[d]);
   for (int d = 0; d < nd; ++d) readCommand(model, d, &r, &next.commands[d]);
   next.contacts = readContacts(model, version, &r);
+  if (version >= 4) next.wall = readWall(model, &r);
   r.finish();  // every wrong value, before anything of the data changes
   // Copied into the data's own buffers: views of them (the Python front's
   // arrays) stay valid.
@@ -317,6 +351,7 @@ void readState(const SceneModel& model, const std::string& path, std::istream& i
   data->next_script_entry = next.next_script_entry;
   data->resting_steps = next.resting_steps;
   data->asleep = next.asleep;
+  data->wall = next.wall;
   data->targets.clear();  // progress is not saved: it restarts at the loaded state
   locateTips(model, data);
   measureForces(model, data);

@@ -4,6 +4,7 @@
 // shortest form that reads back to the same double, NaN as null.
 #include "endovascular_sim/sim/step_json.h"
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 namespace evsim {
@@ -96,6 +97,16 @@ std::string stepJson(const SceneModel& model, const SimData& data) {
   o["late_rows"] = {
       {"wall", c.late_rows.wall}, {"pair", c.late_rows.pair}, {"lumen", c.late_rows.lumen}};
   o["asleep"] = s.asleep;
+  if (model.wall) {  // effect 'vessel_deformation'
+    double moved = 0.0, widened = 0.0;
+    if (data.wall)
+      for (size_t i = 0; i < data.wall->displacement.size(); ++i) {
+        moved = std::max(moved, data.wall->displacement[i].norm());
+        widened = std::max(widened, data.wall->radius_change[i]);
+      }
+    o["wall_max_displacement_m"] = moved;
+    o["wall_max_widening_m"] = widened;
+  }
   Json devices = Json::array();
   for (size_t i = 0; i < model.devices.size(); ++i) devices.push_back(deviceJson(model, data, i));
   o["devices"] = std::move(devices);

@@ -86,7 +86,7 @@ TEST(InteriorBall, ABallFollowingTheNetworksMotionHoldsOnlyInsidePoints) {
       const Ball now = followBall(&ball, field, m1);
       ASSERT_TRUE(ball.sensed);
       const Vec3 shift = now.center - c;
-      const double kappa = field.deformationRate(m0, m1);
+      const double kappa = field.deformationRate(m0.regions, m1.regions);
       for (int k = 0; k < 20; ++k) {
         const Vec3 q = c + 2e-3 * std::abs(u(rng)) * Vec3(u(rng), u(rng), u(rng)).normalized();
         const double change =

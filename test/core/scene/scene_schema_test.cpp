@@ -120,6 +120,7 @@ std::string baseScene() {
          "  aneurysms: [{center: [0.014, 0.0, 0.013], radius: 0.0035}]\n"
          "  motion: [{center: [0, 0, 0], radius: 0.15, amplitude: [0, 0.001, 0], "
          "frequency: 1, phase: 0}]\n"
+         "  wall: {vessels: [{name: aortic_arch}]}\n"
          "devices:\n"
          "  - file: " +
          cfg +

@@ -73,6 +73,8 @@ SceneSpec minimalScene() {
       "  network: {seed: 3, vessels: 10}\n"
       "  motion:\n"
       "    - {center: [0.02, 0, 0], radius: 0.01, amplitude: [0, 0, 0.001], frequency: 1}\n"
+      "  wall:\n"
+      "    vessels: [{name: aortic_arch}]\n"
       "devices:\n"
       "  - file: ../devices/guidewire.urdf\n"
       "    access_point: [0.025, -0.020, -0.130]\n"
@@ -101,6 +103,13 @@ std::map<std::string, Read> readers() {
       {"vessels.network.min_radius",
        [](const SceneSpec& s) { return num(s.vessels.network.min_radius); }},
       {"vessels.motion[].phase", [](const SceneSpec& s) { return num(s.vessels.motion[0].phase); }},
+      {"vessels.wall.distensibility",
+       [](const SceneSpec& s) { return num(s.vessels.wall.all.distensibility); }},
+      {"vessels.wall.tether_stiffness",
+       [](const SceneSpec& s) { return num(s.vessels.wall.all.tether_stiffness); }},
+      {"vessels.wall.tether_damping",
+       [](const SceneSpec& s) { return num(s.vessels.wall.all.tether_damping); }},
+      {"vessels.wall.reach", [](const SceneSpec& s) { return num(s.vessels.wall.reach); }},
       {"devices[].up",
        [](const SceneSpec& s) { return vec(s.devices[0].introducer.frame.col(2)); }},
       {"devices[].inserted_length",

@@ -13,6 +13,7 @@
 #include "endovascular_sim/geometry/patient_frame.h"
 #include "endovascular_sim/scene/scene_file.h"
 #include "endovascular_sim/sim/simulation.h"
+#include "wire_urdf.h"
 
 namespace evsim {
 namespace {
@@ -24,17 +25,6 @@ constexpr double kWire = 0.000178;   // [m] the wire's radius
 constexpr double kTubeLength = 0.2;  // [m] along x, horizontal
 constexpr double kInserted = 0.16;   // [m] of wire in the tube
 
-const char* kWireFile = R"(<?xml version="1.0"?>
-<robot name="wire">
-  <link name="shaft">
-    <inertial><mass value="0.0002"/>
-      <inertia ixx="1e-6" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="1e-12"/></inertial>
-    <collision><geometry><cylinder radius="0.000178" length="0.3"/></geometry></collision>
-  </link>
-  <evsim_device max_insertion_speed="0.05" max_rotation_speed="6.28"/>
-  <evsim_section link="shaft" young_modulus="6e9" poisson_ratio="0.33" elements="60"/>
-</robot>
-)";
 
 /// A folder with the tube (its SWC declaring `frame`), the wire and a scene
 /// with `gravity` as given.
@@ -44,7 +34,7 @@ class SupineGravity : public ::testing::Test {
              const std::string& vessels_extra = "") {
     dir_ = fs::temp_directory_path() / ("evsim_supine_" + std::to_string(::getpid()));
     fs::create_directories(dir_);
-    std::ofstream(dir_ / "wire.urdf") << kWireFile;
+    std::ofstream(dir_ / "wire.urdf") << test::wireUrdf(0.0002, kWire, 0.3, 6e9, 60);
     std::ofstream swc(dir_ / "tube.swc");
     swc << "# units: mm\n";
     if (!frame.empty()) swc << "# frame: " << frame << "\n";
